@@ -1,0 +1,163 @@
+//! The error type of `opengrasp-core`.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong in `opengrasp-core`.
+///
+/// Bad input never panics: malformed URDF, missing meshes, unknown names, non-finite or
+/// out-of-limit joint values and degenerate geometry each map to a variant here.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum CoreError {
+    /// The URDF text could not be parsed or is structurally invalid.
+    #[error("malformed urdf: {reason}")]
+    MalformedUrdf {
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// A mesh file referenced by a robot or object could not be found or read.
+    #[error("mesh not found: {}", path.display())]
+    MeshNotFound {
+        /// The path or URI that was looked up.
+        path: PathBuf,
+    },
+    /// A mesh file was found but could not be decoded.
+    #[error("cannot read mesh {}: {reason}", path.display())]
+    MeshFormat {
+        /// The mesh file.
+        path: PathBuf,
+        /// Decoder message.
+        reason: String,
+    },
+    /// A triangle mesh is unusable (empty, non-finite, out-of-range indices, zero-area faces).
+    #[error("degenerate mesh: {reason}")]
+    DegenerateMesh {
+        /// What is degenerate.
+        reason: String,
+    },
+    /// A primitive shape has a non-positive or non-finite dimension.
+    #[error("invalid geometry: {reason}")]
+    InvalidGeometry {
+        /// What is invalid.
+        reason: String,
+    },
+    /// The robot's link/joint structure is not a valid tree.
+    #[error("invalid robot model: {reason}")]
+    InvalidModel {
+        /// What is invalid.
+        reason: String,
+    },
+    /// No link with this name exists.
+    #[error("unknown link `{name}`")]
+    UnknownLink {
+        /// The name looked up.
+        name: String,
+    },
+    /// No joint with this name exists.
+    #[error("unknown joint `{name}`")]
+    UnknownJoint {
+        /// The name looked up.
+        name: String,
+    },
+    /// A joint cannot be used as a degree of freedom (fixed or mimic joint).
+    #[error("joint `{name}` is not an actuated degree of freedom")]
+    NotActuated {
+        /// The joint's name.
+        name: String,
+    },
+    /// A joint group has no joints.
+    #[error("joint group `{name}` is empty")]
+    EmptyJointGroup {
+        /// The group's name.
+        name: String,
+    },
+    /// No joint group with this name exists.
+    #[error("unknown joint group `{name}`")]
+    UnknownJointGroup {
+        /// The name looked up.
+        name: String,
+    },
+    /// A configuration vector has the wrong length.
+    #[error("configuration has {actual} values, expected {expected}")]
+    DimensionMismatch {
+        /// Expected length.
+        expected: usize,
+        /// Given length.
+        actual: usize,
+    },
+    /// A joint value is NaN or infinite.
+    #[error("joint `{joint}` has non-finite value {value}")]
+    NonFiniteJointValue {
+        /// The joint's name.
+        joint: String,
+        /// The offending value.
+        value: f64,
+    },
+    /// A joint value lies outside the joint's limits.
+    #[error("joint `{joint}` value {value} outside limits [{lower}, {upper}]")]
+    JointOutOfLimits {
+        /// The joint's name.
+        joint: String,
+        /// The offending value.
+        value: f64,
+        /// Lower limit.
+        lower: f64,
+        /// Upper limit.
+        upper: f64,
+    },
+    /// A pose, vector or parameter is NaN or infinite.
+    #[error("non-finite value in {what}")]
+    NonFinite {
+        /// Which input.
+        what: String,
+    },
+    /// An option or parameter is out of its valid range.
+    #[error("invalid parameter `{name}`: {reason}")]
+    InvalidParameter {
+        /// The parameter.
+        name: String,
+        /// Why it is invalid.
+        reason: String,
+    },
+    /// A scene has nothing to operate on (no bodies, objects or robots where one is needed).
+    #[error("empty scene: {reason}")]
+    EmptyScene {
+        /// What was missing.
+        reason: String,
+    },
+    /// A scene handle (robot, object, body) does not refer to anything in the scene.
+    #[error("invalid {kind} handle {index}")]
+    InvalidHandle {
+        /// Kind of handle ("robot", "object", "body").
+        kind: &'static str,
+        /// The handle's index.
+        index: usize,
+    },
+    /// The physics backend reported an error.
+    #[error("physics backend error: {reason}")]
+    Physics {
+        /// What happened.
+        reason: String,
+    },
+    /// An I/O error while reading or writing files.
+    #[error("i/o error on {}: {source}", path.display())]
+    Io {
+        /// The file involved.
+        path: PathBuf,
+        /// The underlying error.
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+/// Result alias for `opengrasp-core`.
+pub type Result<T, E = CoreError> = std::result::Result<T, E>;
+
+/// Returns `Err(CoreError::NonFinite)` unless every value is finite.
+pub(crate) fn ensure_finite(what: &str, values: impl IntoIterator<Item = f64>) -> Result<()> {
+    if values.into_iter().all(f64::is_finite) {
+        Ok(())
+    } else {
+        Err(CoreError::NonFinite { what: what.to_string() })
+    }
+}

@@ -1,0 +1,20 @@
+//! # opengrasp-core
+//!
+//! The machinery every OpenGRASP-rs benchmark stands on, with no knowledge of grasping or
+//! planning: robot models ([`model`]) built in code or loaded from URDF ([`urdf`]), forward and
+//! inverse kinematics ([`kinematics`]), scenes ([`scene`]), collision, distance and contact
+//! queries on parry3d ([`collision`]), and the [`physics::PhysicsEngine`] trait with a rapier
+//! backend and a deterministic mock.
+//!
+//! All quantities are `f64` in SI units (metres, radians, newtons, seconds); poses are
+//! `nalgebra::Isometry3<f64>`.
+
+#![forbid(unsafe_code)]
+
+pub mod error;
+pub mod kinematics;
+pub mod model;
+pub mod scene;
+
+pub use error::{CoreError, Result};
+pub use nalgebra;

@@ -1,0 +1,1 @@
+//! placeholder overview, replaced by the crate's owner.
