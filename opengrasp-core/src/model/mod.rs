@@ -3,6 +3,7 @@
 mod geometry;
 mod group;
 mod robot;
+pub mod samples;
 
 pub use geometry::{Geometry, Shape, TriangleMesh};
 pub use group::JointGroup;
