@@ -11,10 +11,14 @@
 
 #![forbid(unsafe_code)]
 
+pub mod collision;
 pub mod error;
 pub mod kinematics;
+pub mod mesh_io;
 pub mod model;
+pub mod physics;
 pub mod scene;
+pub mod urdf;
 
 pub use error::{CoreError, Result};
 pub use nalgebra;

@@ -86,7 +86,8 @@ pub fn serial_chain(n: usize) -> Result<Robot> {
 /// A 7-DoF anthropomorphic arm (shoulder z-y-z, elbow y, wrist z-y-z, KUKA-LWR-like
 /// proportions: 0.31 m base column, 0.40 m upper arm, 0.39 m forearm, 0.08 m flange) with
 /// capsule collision links and a box "hand" on the tool frame. Joint group `arm` holds all
-/// seven joints; the end-effector link is `tool`.
+/// seven joints; the end-effector link is `tool`. Collisions between `link5` and `link7`
+/// (which always overlap across the short `link6`) are allowed.
 ///
 /// # Errors
 /// Never in practice (the model is fixed); the `Result` comes from [`RobotBuilder::build`].
@@ -127,6 +128,9 @@ pub fn seven_dof_arm() -> Result<Robot> {
     let mut robot =
         b.link(hand).joint(JointSpec::new("tool_joint", JointKind::Fixed, &parent, "tool").origin(flange)).build()?;
     robot.add_group("arm", &["joint1", "joint2", "joint3", "joint4", "joint5", "joint6", "joint7"])?;
+    // The 0.1 m link6 is shorter than two capsule radii: link5 and link7 overlap in every
+    // configuration, so the pair is disabled as an SRDF would.
+    robot.allow_collision("link5", "link7")?;
     Ok(robot)
 }
 

@@ -1,0 +1,229 @@
+//! A deterministic kinematic stand-in for a physics engine.
+
+use std::sync::Arc;
+
+use nalgebra::{Isometry3, Point3, Vector3};
+
+use super::{
+    advance_reference, check_pose, check_target, check_vec, substeps, velocity_limit, BodyVelocity, JointTarget,
+    PhysicsEngine, PhysicsOptions,
+};
+use crate::error::{CoreError, Result};
+use crate::kinematics::link_pose_unchecked;
+use crate::model::{LinkId, Robot};
+use crate::scene::{ObjectId, RobotId, Scene};
+
+/// A fast, deterministic backend without dynamics or contacts.
+///
+/// - Joints move towards their position targets at their velocity limit (or follow their
+///   velocity targets), integrated exactly and clamped to the joint limits; a target within
+///   reach of one step is hit exactly.
+/// - Objects do not fall: gravity, external forces and impulses are validated and then ignored,
+///   so a free object stays where it is. Attached objects follow their link rigidly.
+/// - [`PhysicsEngine::contacts`] is always empty.
+///
+/// Use it to test code built on [`PhysicsEngine`] quickly; use
+/// [`super::RapierBackend`] when contact forces matter.
+#[derive(Clone, Debug)]
+pub struct MockBackend {
+    options: PhysicsOptions,
+    gravity: Vector3<f64>,
+    time: f64,
+    robots: Vec<MockRobot>,
+    objects: Vec<MockObject>,
+}
+
+#[derive(Clone, Debug)]
+struct MockRobot {
+    robot: Arc<Robot>,
+    base_pose: Isometry3<f64>,
+    q: Vec<f64>,
+    qd: Vec<f64>,
+    targets: Vec<JointTarget>,
+    vmax: Vec<f64>,
+}
+
+#[derive(Clone, Debug)]
+struct MockObject {
+    pose: Isometry3<f64>,
+    center_of_mass: Point3<f64>,
+    velocity: BodyVelocity,
+    /// Carrying robot, link and object pose in the link frame.
+    attachment: Option<(RobotId, LinkId, Isometry3<f64>)>,
+}
+
+impl MockBackend {
+    fn robot(&self, id: RobotId) -> Result<&MockRobot> {
+        self.robots.get(id.0).ok_or(CoreError::InvalidHandle { kind: "robot", index: id.0 })
+    }
+
+    fn object(&self, id: ObjectId) -> Result<&MockObject> {
+        self.objects.get(id.0).ok_or(CoreError::InvalidHandle { kind: "object", index: id.0 })
+    }
+
+    fn link_world_pose(&self, robot: RobotId, link: LinkId) -> Isometry3<f64> {
+        let r = &self.robots[robot.0];
+        r.base_pose * link_pose_unchecked(&r.robot, &r.q, link)
+    }
+}
+
+impl PhysicsEngine for MockBackend {
+    fn from_scene(scene: &Scene, options: &PhysicsOptions) -> Result<Self> {
+        options.validate()?;
+        let robots = scene
+            .robots()
+            .iter()
+            .map(|r| {
+                let n = r.robot.dof();
+                MockRobot {
+                    robot: Arc::clone(&r.robot),
+                    base_pose: r.base_pose,
+                    q: r.q.clone(),
+                    qd: vec![0.0; n],
+                    targets: r.q.iter().map(|&v| JointTarget::Position(v)).collect(),
+                    vmax: (0..n).map(|i| velocity_limit(&r.robot, i, options)).collect(),
+                }
+            })
+            .collect();
+        let objects = scene
+            .objects()
+            .iter()
+            .enumerate()
+            .map(|(i, o)| MockObject {
+                pose: o.pose,
+                center_of_mass: o.center_of_mass,
+                velocity: BodyVelocity::default(),
+                attachment: scene.attachment_of(ObjectId(i)).map(|a| (a.robot, a.link, a.offset)),
+            })
+            .collect();
+        Ok(Self { options: options.clone(), gravity: options.gravity, time: 0.0, robots, objects })
+    }
+
+    fn name(&self) -> &str {
+        "mock"
+    }
+
+    fn time(&self) -> f64 {
+        self.time
+    }
+
+    fn step(&mut self, dt: f64) -> Result<()> {
+        substeps(dt, self.options.timestep)?;
+        for r in &mut self.robots {
+            for i in 0..r.q.len() {
+                let limits = r.robot.dof_limits(i);
+                let next = advance_reference(r.q[i], r.targets[i], r.vmax[i], limits, dt);
+                r.qd[i] = (next - r.q[i]) / dt;
+                r.q[i] = next;
+            }
+        }
+        for i in 0..self.objects.len() {
+            let Some((robot, link, offset)) = self.objects[i].attachment else {
+                self.objects[i].velocity = BodyVelocity::default();
+                continue;
+            };
+            let pose = self.link_world_pose(robot, link) * offset;
+            let o = &mut self.objects[i];
+            let (c0, c1) = (o.pose * o.center_of_mass, pose * o.center_of_mass);
+            o.velocity = BodyVelocity {
+                linear: (c1 - c0) / dt,
+                angular: (pose.rotation * o.pose.rotation.inverse()).scaled_axis() / dt,
+            };
+            o.pose = pose;
+        }
+        self.time += dt;
+        Ok(())
+    }
+
+    fn gravity(&self) -> Vector3<f64> {
+        self.gravity
+    }
+
+    fn set_gravity(&mut self, gravity: Vector3<f64>) -> Result<()> {
+        check_vec("gravity", &gravity)?;
+        self.gravity = gravity;
+        Ok(())
+    }
+
+    fn set_joint_target(&mut self, robot: RobotId, dof: usize, target: JointTarget) -> Result<()> {
+        let r = self.robot(robot)?;
+        if dof >= r.q.len() {
+            return Err(CoreError::InvalidHandle { kind: "dof", index: dof });
+        }
+        check_target(target)?;
+        self.robots[robot.0].targets[dof] = target;
+        Ok(())
+    }
+
+    fn joint_positions(&self, robot: RobotId) -> Result<Vec<f64>> {
+        Ok(self.robot(robot)?.q.clone())
+    }
+
+    fn joint_velocities(&self, robot: RobotId) -> Result<Vec<f64>> {
+        Ok(self.robot(robot)?.qd.clone())
+    }
+
+    fn link_pose(&self, robot: RobotId, link: LinkId) -> Result<Isometry3<f64>> {
+        if link.0 >= self.robot(robot)?.robot.links().len() {
+            return Err(CoreError::InvalidHandle { kind: "link", index: link.0 });
+        }
+        Ok(self.link_world_pose(robot, link))
+    }
+
+    fn object_pose(&self, object: ObjectId) -> Result<Isometry3<f64>> {
+        Ok(self.object(object)?.pose)
+    }
+
+    fn object_velocity(&self, object: ObjectId) -> Result<BodyVelocity> {
+        Ok(self.object(object)?.velocity)
+    }
+
+    fn set_object_pose(&mut self, object: ObjectId, pose: Isometry3<f64>) -> Result<()> {
+        self.object(object)?;
+        check_pose("object pose", &pose)?;
+        let o = &mut self.objects[object.0];
+        o.pose = pose;
+        o.velocity = BodyVelocity::default();
+        o.attachment = None;
+        Ok(())
+    }
+
+    /// Validated, then ignored (the mock has no dynamics).
+    fn apply_object_impulse(&mut self, object: ObjectId, impulse: Vector3<f64>, point: Point3<f64>) -> Result<()> {
+        self.object(object)?;
+        check_vec("impulse", &impulse)?;
+        check_vec("impulse point", &point.coords)
+    }
+
+    /// Validated, then ignored (the mock has no dynamics).
+    fn set_object_force(&mut self, object: ObjectId, force: Vector3<f64>, torque: Vector3<f64>) -> Result<()> {
+        self.object(object)?;
+        check_vec("force", &force)?;
+        check_vec("torque", &torque)
+    }
+
+    fn attach(&mut self, object: ObjectId, robot: RobotId, link: LinkId) -> Result<()> {
+        let link_pose = self.link_pose(robot, link)?;
+        let o = self.object(object)?;
+        if o.attachment.is_some() {
+            return Err(CoreError::InvalidParameter {
+                name: "object".into(),
+                reason: format!("object {} is already attached", object.0),
+            });
+        }
+        let offset = link_pose.inverse() * o.pose;
+        self.objects[object.0].attachment = Some((robot, link, offset));
+        Ok(())
+    }
+
+    fn detach(&mut self, object: ObjectId) -> Result<()> {
+        let o = self.object(object)?;
+        if o.attachment.is_none() {
+            return Err(CoreError::InvalidHandle { kind: "attachment", index: object.0 });
+        }
+        let o = &mut self.objects[object.0];
+        o.attachment = None;
+        o.velocity = BodyVelocity::default();
+        Ok(())
+    }
+}
