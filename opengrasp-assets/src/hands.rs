@@ -1,0 +1,741 @@
+//! Robot hands: the Barrett BH8-262, the ARMAR-III five-finger hand and the Schunk SDH, each
+//! a floating [`Robot`] (root link = palm) wrapped in a [`Hand`] that says how to use it for
+//! grasping: palm frame, approach direction, preshapes, fingers, closing velocities and
+//! tactile links. Coupled joints are core mimic joints.
+//!
+//! Any user hand (loaded from URDF or built in code) becomes a [`Hand`] through
+//! [`Hand::from_robot`] and a [`HandSpec`].
+
+use std::collections::BTreeSet;
+use std::f64::consts::{FRAC_PI_2, PI};
+use std::sync::Arc;
+
+use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
+use opengrasp_core::model::{Geometry, Inertial, JointKind, JointSpec, Link, LinkId, Robot, RobotBuilder, Shape};
+
+use crate::error::{AssetError, Result};
+
+/// A named hand configuration given as joint values (joints not listed keep their value).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PreshapeSpec {
+    /// Name (`open`, `spherical`, `pinch`, ...).
+    pub name: String,
+    /// `(joint name, value)` pairs for actuated joints.
+    pub joints: Vec<(String, f64)>,
+}
+
+/// A finger given by the names of its links, from the palm outwards.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FingerSpec {
+    /// Name (`f1`, `thumb`, ...).
+    pub name: String,
+    /// Link names of the finger's phalanges.
+    pub links: Vec<String>,
+}
+
+/// Everything [`Hand::from_robot`] needs besides the robot model.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HandSpec {
+    /// Name of the palm link.
+    pub palm_link: String,
+    /// Palm frame in the palm link frame: origin at the centre of the palm surface.
+    pub palm_frame: Isometry3<f64>,
+    /// Approach direction in the palm frame (need not be normalised).
+    pub approach: Vector3<f64>,
+    /// Named preshapes; the first one is the default open hand.
+    pub preshapes: Vec<PreshapeSpec>,
+    /// The fingers.
+    pub fingers: Vec<FingerSpec>,
+    /// `(actuated joint name, closing velocity in rad/s or m/s)`; the sign gives the closing
+    /// direction. Actuated joints not listed (e.g. a spread joint) do not close.
+    pub closing: Vec<(String, f64)>,
+    /// Links carrying tactile sensor pads.
+    pub tactile_links: Vec<String>,
+}
+
+/// A named preshape as a sparse configuration `(dof index, value)`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Preshape {
+    /// Name.
+    pub name: String,
+    /// `(configuration index, value)` pairs.
+    pub values: Vec<(usize, f64)>,
+}
+
+/// One finger: its links and the closing degrees of freedom that move them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Finger {
+    /// Name.
+    pub name: String,
+    /// Phalanx links from the palm outwards.
+    pub links: Vec<LinkId>,
+    /// Configuration indices with a non-zero closing velocity that move this finger's links.
+    pub closing_dofs: Vec<usize>,
+}
+
+/// A robot hand ready for grasp planning (standalone floating hand or mounted on an arm).
+#[derive(Clone, Debug)]
+pub struct Hand {
+    name: String,
+    robot: Arc<Robot>,
+    palm: LinkId,
+    palm_frame: Isometry3<f64>,
+    approach: Unit<Vector3<f64>>,
+    preshapes: Vec<Preshape>,
+    fingers: Vec<Finger>,
+    closing_velocity: Vec<f64>,
+    tactile_links: Vec<LinkId>,
+}
+
+impl Hand {
+    /// Wraps `robot` (e.g. a user URDF) as a hand described by `spec`.
+    ///
+    /// # Errors
+    /// [`AssetError::Core`] with an unknown link/joint name or a non-actuated joint in
+    /// `closing` or a preshape; [`AssetError::InvalidParameter`] for a zero or non-finite
+    /// approach, non-finite values, or no fingers.
+    pub fn from_robot(robot: impl Into<Arc<Robot>>, spec: HandSpec) -> Result<Self> {
+        let robot: Arc<Robot> = robot.into();
+        let invalid = |name: &str, reason: String| AssetError::InvalidParameter { name: name.into(), reason };
+        let palm = robot.link_id(&spec.palm_link)?;
+        let approach = Unit::try_new(spec.approach, 1e-12)
+            .filter(|a| a.iter().all(|c| c.is_finite()))
+            .ok_or_else(|| invalid("approach", format!("must be a finite non-zero vector, got {:?}", spec.approach)))?;
+        if spec.fingers.is_empty() {
+            return Err(invalid("fingers", "a hand needs at least one finger".into()));
+        }
+        let dof_of = |joint: &str| robot.dof_index(joint);
+        let mut closing_velocity = vec![0.0; robot.dof()];
+        for (joint, v) in &spec.closing {
+            if !v.is_finite() {
+                return Err(invalid("closing", format!("velocity of `{joint}` is {v}")));
+            }
+            closing_velocity[dof_of(joint)?] = *v;
+        }
+        let mut preshapes = Vec::with_capacity(spec.preshapes.len());
+        for p in &spec.preshapes {
+            let mut values = Vec::with_capacity(p.joints.len());
+            for (joint, v) in &p.joints {
+                if !v.is_finite() {
+                    return Err(invalid("preshape", format!("`{}` sets `{joint}` to {v}", p.name)));
+                }
+                values.push((dof_of(joint)?, *v));
+            }
+            preshapes.push(Preshape { name: p.name.clone(), values });
+        }
+        let mut fingers = Vec::with_capacity(spec.fingers.len());
+        for f in &spec.fingers {
+            let links = f.links.iter().map(|l| robot.link_id(l)).collect::<std::result::Result<Vec<_>, _>>()?;
+            let mut dofs = BTreeSet::new();
+            for &l in &links {
+                for j in robot.chain_to(l) {
+                    if let Some((d, _)) = robot.driving_dof(j) {
+                        if closing_velocity[d] != 0.0 {
+                            dofs.insert(d);
+                        }
+                    }
+                }
+            }
+            fingers.push(Finger { name: f.name.clone(), links, closing_dofs: dofs.into_iter().collect() });
+        }
+        let tactile_links =
+            spec.tactile_links.iter().map(|l| robot.link_id(l)).collect::<std::result::Result<Vec<_>, _>>()?;
+        Ok(Self {
+            name: robot.name().to_string(),
+            robot,
+            palm,
+            palm_frame: spec.palm_frame,
+            approach,
+            preshapes,
+            fingers,
+            closing_velocity,
+            tactile_links,
+        })
+    }
+
+    /// Name of the hand (its robot's name).
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+    /// The kinematic model.
+    pub fn robot(&self) -> &Robot {
+        &self.robot
+    }
+    /// The kinematic model, shared (for adding the hand to a scene).
+    pub fn robot_arc(&self) -> Arc<Robot> {
+        self.robot.clone()
+    }
+    /// The palm link.
+    pub fn palm(&self) -> LinkId {
+        self.palm
+    }
+    /// The palm frame in the palm link frame (origin at the centre of the palm surface).
+    pub fn palm_frame(&self) -> Isometry3<f64> {
+        self.palm_frame
+    }
+    /// Unit approach direction in the palm frame.
+    pub fn approach(&self) -> Unit<Vector3<f64>> {
+        self.approach
+    }
+    /// The named preshapes (the first is the default open hand).
+    pub fn preshapes(&self) -> &[Preshape] {
+        &self.preshapes
+    }
+    /// The fingers.
+    pub fn fingers(&self) -> &[Finger] {
+        &self.fingers
+    }
+    /// Closing velocity of every configuration index (0 for joints that do not close).
+    pub fn closing_velocity(&self) -> &[f64] {
+        &self.closing_velocity
+    }
+    /// Links carrying tactile pads.
+    pub fn tactile_links(&self) -> &[LinkId] {
+        &self.tactile_links
+    }
+    /// How joint `joint` follows the configuration: `(dof index, multiplier)` (coupled joints
+    /// are mimic joints; see [`Robot::driving_dof`]).
+    pub fn coupling(&self, joint: &str) -> Result<Option<(usize, f64)>> {
+        Ok(self.robot.driving_dof(self.robot.joint_id(joint)?))
+    }
+
+    /// `q` with the preshape `name` applied.
+    ///
+    /// # Errors
+    /// [`AssetError::UnknownAsset`] for an unknown preshape, [`AssetError::Core`] if `q` has
+    /// the wrong length.
+    pub fn preshape_configuration(&self, name: &str, q: &[f64]) -> Result<Vec<f64>> {
+        self.check_len(q)?;
+        let p = self
+            .preshapes
+            .iter()
+            .find(|p| p.name == name)
+            .ok_or_else(|| AssetError::UnknownAsset { kind: "preshape", name: name.to_string() })?;
+        let mut out = q.to_vec();
+        for &(d, v) in &p.values {
+            out[d] = v;
+        }
+        Ok(out)
+    }
+
+    /// The default open configuration: home configuration with the first preshape applied.
+    pub fn open_configuration(&self) -> Vec<f64> {
+        let mut q = self.robot.home_configuration();
+        if let Some(p) = self.preshapes.first() {
+            for &(d, v) in &p.values {
+                q[d] = v;
+            }
+        }
+        self.robot.clamp_configuration(&mut q);
+        q
+    }
+
+    /// Moves the closing dofs of the fingers for which `active[finger]` is true by
+    /// `step × closing velocity`, clamped to the joint limits.
+    ///
+    /// # Errors
+    /// [`AssetError::Core`] if `q` has the wrong length, [`AssetError::InvalidParameter`] if
+    /// `active` does not have one entry per finger.
+    pub fn close_step(&self, q: &[f64], step: f64, active: &[bool]) -> Result<Vec<f64>> {
+        self.check_len(q)?;
+        if active.len() != self.fingers.len() {
+            return Err(AssetError::InvalidParameter {
+                name: "active".into(),
+                reason: format!("{} entries for {} fingers", active.len(), self.fingers.len()),
+            });
+        }
+        let mut out = q.to_vec();
+        let mut moved = BTreeSet::new();
+        for (f, _) in self.fingers.iter().zip(active).filter(|(_, &a)| a) {
+            for &d in &f.closing_dofs {
+                if moved.insert(d) {
+                    out[d] += step * self.closing_velocity[d];
+                }
+            }
+        }
+        self.robot.clamp_configuration(&mut out);
+        Ok(out)
+    }
+
+    fn check_len(&self, q: &[f64]) -> Result<()> {
+        if q.len() != self.robot.dof() {
+            return Err(
+                opengrasp_core::CoreError::DimensionMismatch { expected: self.robot.dof(), actual: q.len() }.into()
+            );
+        }
+        Ok(())
+    }
+}
+
+/// Links, joints and allowed-collision pairs of a sub-assembly, merged into a robot later.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Parts {
+    pub links: Vec<Link>,
+    pub joints: Vec<JointSpec>,
+    pub allowed: Vec<(String, String)>,
+}
+
+impl Parts {
+    pub fn add_to(self, mut b: RobotBuilder) -> RobotBuilder {
+        for l in self.links {
+            b = b.link(l);
+        }
+        for j in self.joints {
+            b = b.joint(j);
+        }
+        for (x, y) in self.allowed {
+            b = b.allow_collision(x, y);
+        }
+        b
+    }
+}
+
+pub(crate) fn iso(x: f64, y: f64, z: f64, roll: f64, pitch: f64, yaw: f64) -> Isometry3<f64> {
+    Isometry3::from_parts(Translation3::new(x, y, z), UnitQuaternion::from_euler_angles(roll, pitch, yaw))
+}
+
+/// A phalanx along local +z of length `len`: a box `width × thick × len` (collision) with a
+/// solid-box inertial.
+fn phalanx(name: &str, len: f64, width: f64, thick: f64, mass: f64, gap: f64) -> Link {
+    let size = Vector3::new(thick, width, len - gap);
+    let origin = Isometry3::translation(0.0, 0.0, gap + (len - gap) / 2.0);
+    Link::new(name)
+        .with_shape(Shape::new(origin, Geometry::cuboid(size.x, size.y, size.z)))
+        .with_inertial(Inertial::solid_box(mass, size, origin))
+}
+
+fn revolute(
+    name: &str,
+    parent: &str,
+    child: &str,
+    origin: Isometry3<f64>,
+    axis: Vector3<f64>,
+    lo: f64,
+    hi: f64,
+) -> JointSpec {
+    JointSpec::new(name, JointKind::Revolute, parent, child).origin(origin).axis(axis).limits(lo, hi, 2.0, 5.0)
+}
+
+// ---------------------------------------------------------------------------------------------
+// Barrett BH8-262
+// ---------------------------------------------------------------------------------------------
+
+/// Barrett dimensions (m, rad); see the crate-level table for sources.
+mod bh {
+    pub const PALM_RADIUS: f64 = 0.045;
+    pub const PALM_HEIGHT: f64 = 0.075;
+    pub const SPREAD_AXIS_RADIUS: f64 = 0.025;
+    pub const KNUCKLE_OFFSET: f64 = 0.025;
+    pub const PROXIMAL: f64 = 0.070;
+    pub const DISTAL: f64 = 0.058;
+    pub const FINGER_WIDTH: f64 = 0.024;
+    pub const FINGER_THICK: f64 = 0.018;
+    pub const PROXIMAL_MAX: f64 = 2.443; // 140°
+    pub const DISTAL_RATIO: f64 = 48.0 / 140.0; // TorqueSwitch: 48° outer for 140° inner
+    pub const MASS: f64 = 1.18;
+}
+
+/// The Barrett BH8-262 parts under `palm` (prefix applied to every name). Palm surface at
+/// z = 0 of the palm link, approach +z, finger F3 at -x, F1/F2 at +x (±y).
+fn barrett_parts(p: &str) -> Parts {
+    use bh::*;
+    let palm = format!("{p}palm");
+    let mut parts = Parts::default();
+    let palm_origin = Isometry3::translation(0.0, 0.0, -PALM_HEIGHT / 2.0);
+    parts.links.push(
+        Link::new(&palm)
+            .with_shape(Shape::new(palm_origin, Geometry::Cylinder { radius: PALM_RADIUS, length: PALM_HEIGHT }))
+            .with_inertial(Inertial::solid_cylinder(MASS * 0.6, PALM_RADIUS, PALM_HEIGHT, palm_origin)),
+    );
+    let m_link = MASS * 0.4 / 9.0; // 3 knuckles + 6 phalanges
+                                   // (finger, spread-axis position, knuckle yaw so local +x points at the palm centre, spread sign)
+    let fingers = [
+        ("f1", Vector3::new(SPREAD_AXIS_RADIUS, SPREAD_AXIS_RADIUS, 0.0), PI, Some(1.0)),
+        ("f2", Vector3::new(SPREAD_AXIS_RADIUS, -SPREAD_AXIS_RADIUS, 0.0), PI, Some(-1.0)),
+        ("f3", Vector3::new(-SPREAD_AXIS_RADIUS, 0.0, 0.0), 0.0, None),
+    ];
+    for (f, pos, yaw, spread) in fingers {
+        let knuckle = format!("{p}{f}_knuckle");
+        let prox = format!("{p}{f}_proximal");
+        let dist = format!("{p}{f}_distal");
+        let kn_origin = Isometry3::translation(pos.x, pos.y, pos.z) * iso(0.0, 0.0, 0.0, 0.0, 0.0, yaw);
+        parts.links.push(
+            Link::new(&knuckle)
+                .with_shape(Shape::new(
+                    Isometry3::translation(-KNUCKLE_OFFSET / 2.0, 0.0, 0.008),
+                    Geometry::cuboid(KNUCKLE_OFFSET + 0.01, FINGER_WIDTH, 0.014),
+                ))
+                .with_inertial(Inertial::solid_box(
+                    m_link,
+                    Vector3::new(KNUCKLE_OFFSET, FINGER_WIDTH, 0.014),
+                    Isometry3::translation(-KNUCKLE_OFFSET / 2.0, 0.0, 0.008),
+                )),
+        );
+        let spread_joint = format!("{p}{f}_spread");
+        match spread {
+            Some(sign) => {
+                let mut j = revolute(&spread_joint, &palm, &knuckle, kn_origin, Vector3::z() * sign, 0.0, PI);
+                if sign < 0.0 {
+                    j = j.mimic(format!("{p}f1_spread"), 1.0, 0.0);
+                }
+                parts.joints.push(j);
+            }
+            None => {
+                parts.joints.push(JointSpec::new(spread_joint, JointKind::Fixed, &palm, &knuckle).origin(kn_origin))
+            }
+        }
+        parts.links.push(phalanx(&prox, PROXIMAL, FINGER_WIDTH, FINGER_THICK, m_link, 0.016));
+        parts.links.push(phalanx(&dist, DISTAL, FINGER_WIDTH * 0.9, FINGER_THICK * 0.9, m_link, 0.01));
+        parts.joints.push(revolute(
+            &format!("{p}{f}_j2"),
+            &knuckle,
+            &prox,
+            Isometry3::translation(-KNUCKLE_OFFSET, 0.0, 0.016),
+            Vector3::y(),
+            0.0,
+            PROXIMAL_MAX,
+        ));
+        parts.joints.push(
+            revolute(
+                &format!("{p}{f}_j3"),
+                &prox,
+                &dist,
+                Isometry3::translation(0.0, 0.0, PROXIMAL),
+                Vector3::y(),
+                0.0,
+                PROXIMAL_MAX * DISTAL_RATIO,
+            )
+            .mimic(format!("{p}{f}_j2"), DISTAL_RATIO, 0.0),
+        );
+        parts.allowed.push((palm.clone(), prox.clone()));
+        parts.allowed.push((knuckle.clone(), dist.clone()));
+    }
+    // The two spreading knuckles sit side by side and touch when the spread closes.
+    parts.allowed.push((format!("{p}f1_knuckle"), format!("{p}f2_knuckle")));
+    parts
+}
+
+/// Hand description of the Barrett BH8-262 whose link/joint names start with `prefix`.
+pub fn barrett_spec(prefix: &str) -> HandSpec {
+    let p = prefix;
+    let fingers = ["f1", "f2", "f3"];
+    HandSpec {
+        palm_link: format!("{p}palm"),
+        palm_frame: Isometry3::identity(),
+        approach: Vector3::z(),
+        preshapes: vec![
+            PreshapeSpec { name: "open".into(), joints: vec![(format!("{p}f1_spread"), 0.0)] },
+            PreshapeSpec { name: "spherical".into(), joints: vec![(format!("{p}f1_spread"), PI / 3.0)] },
+            PreshapeSpec { name: "opposed".into(), joints: vec![(format!("{p}f1_spread"), FRAC_PI_2)] },
+        ],
+        fingers: fingers
+            .iter()
+            .map(|f| FingerSpec {
+                name: f.to_string(),
+                links: vec![format!("{p}{f}_proximal"), format!("{p}{f}_distal")],
+            })
+            .collect(),
+        closing: fingers.iter().map(|f| (format!("{p}{f}_j2"), 1.0)).collect(),
+        tactile_links: std::iter::once(format!("{p}palm"))
+            .chain(fingers.iter().flat_map(|f| [format!("{p}{f}_proximal"), format!("{p}{f}_distal")]))
+            .collect(),
+    }
+}
+
+/// The Barrett BH8-262 as a floating hand: 4 DoF (spread of F1/F2 coupled by a mimic joint,
+/// one flexion per finger with the distal joint coupled 48:140 by the TorqueSwitch).
+///
+/// Built from fixed data validated by the crate's tests, so it does not fail at run time.
+pub fn barrett() -> Hand {
+    let robot = barrett_parts("").add_to(RobotBuilder::new("barrett_bh8_262")).build();
+    // The stock model is fixed data: building it cannot fail (covered by tests).
+    Hand::from_robot(robot.expect("stock Barrett model is valid"), barrett_spec(""))
+        .expect("stock Barrett spec is valid")
+}
+
+// ---------------------------------------------------------------------------------------------
+// ARMAR-III hand
+// ---------------------------------------------------------------------------------------------
+
+/// ARMAR-III hand dimensions (m).
+mod ah {
+    pub const PALM_LENGTH: f64 = 0.095;
+    pub const PALM_WIDTH: f64 = 0.085;
+    pub const PALM_THICK: f64 = 0.030;
+    pub const FINGER_WIDTH: f64 = 0.017;
+    pub const MASS: f64 = 0.25;
+}
+
+/// ARMAR-III hand parts: wrist at the palm link origin, fingers along +z, palm surface facing +x
+/// (`side` = 1 right hand: thumb on +y; -1 left hand: thumb on -y).
+pub(crate) fn armar3_hand_parts(p: &str, side: f64) -> Parts {
+    use ah::*;
+    let palm = format!("{p}palm");
+    let mut parts = Parts::default();
+    let palm_origin = Isometry3::translation(0.0, 0.0, PALM_LENGTH / 2.0);
+    parts.links.push(
+        Link::new(&palm)
+            .with_shape(Shape::new(palm_origin, Geometry::cuboid(PALM_THICK, PALM_WIDTH, PALM_LENGTH)))
+            .with_inertial(Inertial::solid_box(
+                MASS * 0.5,
+                Vector3::new(PALM_THICK, PALM_WIDTH, PALM_LENGTH),
+                palm_origin,
+            )),
+    );
+    let m = MASS * 0.5 / 15.0; // 12 finger phalanges, thumb base and 2 thumb phalanges
+                               // (finger, y position, phalanx lengths, proximal dof joint, distal dof joint)
+    let fingers: [(&str, f64, [f64; 3]); 4] = [
+        ("index", 0.03, [0.045, 0.026, 0.022]),
+        ("middle", 0.01, [0.048, 0.028, 0.022]),
+        ("ring", -0.01, [0.045, 0.026, 0.022]),
+        ("pinky", -0.03, [0.040, 0.022, 0.020]),
+    ];
+    for (f, y, lens) in fingers {
+        let names: Vec<String> = (1..=3).map(|k| format!("{p}{f}_{k}")).collect();
+        let mut parent = palm.clone();
+        let mut origin = Isometry3::translation(0.0, y * side, PALM_LENGTH + 0.002);
+        for k in 0..3 {
+            parts.links.push(phalanx(&names[k], lens[k], FINGER_WIDTH, FINGER_WIDTH, m, 0.004));
+            let jn = format!("{p}{f}_j{}", k + 1);
+            let mut j = revolute(&jn, &parent, &names[k], origin, Vector3::y(), 0.0, FRAC_PI_2);
+            // Coupling as in the fluidic hand: index and middle have separate proximal and
+            // (coupled middle+distal) actuators; ring and pinky share one actuator for all joints.
+            j = match (f, k) {
+                ("index" | "middle", 2) => j.mimic(format!("{p}{f}_j2"), 1.0, 0.0),
+                ("ring", 1 | 2) => j.mimic(format!("{p}ring_j1"), 1.0, 0.0),
+                ("pinky", _) => j.mimic(format!("{p}ring_j1"), 1.0, 0.0),
+                _ => j,
+            };
+            parts.joints.push(j);
+            parent = names[k].clone();
+            origin = Isometry3::translation(0.0, 0.0, lens[k]);
+        }
+        parts.allowed.push((palm.clone(), names[1].clone()));
+    }
+    // Neighbouring fingers touch side by side by design.
+    for (a, b) in [("index", "middle"), ("middle", "ring"), ("ring", "pinky")] {
+        for k in 1..=3 {
+            for l in 1..=3 {
+                parts.allowed.push((format!("{p}{a}_{k}"), format!("{p}{b}_{l}")));
+            }
+        }
+    }
+    // Thumb: base on the palm's thumb side, abducted 45° in the palm plane; an opposition joint
+    // (the hand's palm DoF) swings it in front of the palm, then two flexion joints.
+    let thumb_dir = Vector3::new(0.0, side * FRAC_PI_2.sin() * 0.0 + side * 0.5f64.sqrt(), 0.5f64.sqrt());
+    let rot = UnitQuaternion::rotation_between(&Vector3::z(), &thumb_dir).unwrap_or_else(UnitQuaternion::identity);
+    let base = format!("{p}thumb_base");
+    let tn = [format!("{p}thumb_1"), format!("{p}thumb_2")];
+    parts.links.push(
+        Link::new(&base)
+            .with_shape(Shape::new(Isometry3::translation(0.0, 0.0, 0.0), Geometry::Sphere { radius: 0.011 }))
+            .with_inertial(Inertial::solid_sphere(m, 0.011, Isometry3::identity())),
+    );
+    parts.joints.push(revolute(
+        &format!("{p}thumb_opposition"),
+        &palm,
+        &base,
+        Isometry3::translation(0.0, side * (PALM_WIDTH / 2.0 + 0.004), 0.030),
+        -Vector3::z() * side,
+        0.0,
+        FRAC_PI_2,
+    ));
+    parts.links.push(phalanx(&tn[0], 0.045, FINGER_WIDTH * 1.1, FINGER_WIDTH * 1.1, m, 0.012));
+    parts.links.push(phalanx(&tn[1], 0.032, FINGER_WIDTH * 1.1, FINGER_WIDTH * 1.1, m, 0.004));
+    // Flexion axis: the thumb tip moves towards the palm front (+x).
+    let flex_axis = rot.inverse() * thumb_dir.cross(&Vector3::x());
+    parts.joints.push(revolute(
+        &format!("{p}thumb_j1"),
+        &base,
+        &tn[0],
+        Isometry3::from_parts(Translation3::identity(), rot),
+        flex_axis,
+        0.0,
+        FRAC_PI_2,
+    ));
+    parts.joints.push(revolute(
+        &format!("{p}thumb_j2"),
+        &tn[0],
+        &tn[1],
+        Isometry3::translation(0.0, 0.0, 0.045),
+        flex_axis,
+        0.0,
+        FRAC_PI_2,
+    ));
+    parts.allowed.push((palm.clone(), tn[0].clone()));
+    parts.allowed.push((base.clone(), tn[1].clone()));
+    parts
+}
+
+/// Hand description of an ARMAR-III hand whose names start with `prefix`.
+pub fn armar3_hand_spec(prefix: &str) -> HandSpec {
+    let p = prefix;
+    let fingers: Vec<FingerSpec> = ["thumb", "index", "middle", "ring", "pinky"]
+        .iter()
+        .map(|f| {
+            let n = if *f == "thumb" { 2 } else { 3 };
+            FingerSpec { name: f.to_string(), links: (1..=n).map(|k| format!("{p}{f}_{k}")).collect() }
+        })
+        .collect();
+    let closing =
+        ["thumb_opposition", "thumb_j1", "thumb_j2", "index_j1", "index_j2", "middle_j1", "middle_j2", "ring_j1"]
+            .iter()
+            .map(|j| (format!("{p}{j}"), if *j == "thumb_opposition" { 1.5 } else { 1.0 }))
+            .collect();
+    let tactile_links =
+        std::iter::once(format!("{p}palm")).chain(fingers.iter().flat_map(|f| f.links.clone())).collect();
+    HandSpec {
+        palm_link: format!("{p}palm"),
+        palm_frame: Isometry3::translation(ah::PALM_THICK / 2.0, 0.0, ah::PALM_LENGTH * 0.6),
+        approach: Vector3::x(),
+        preshapes: vec![
+            PreshapeSpec { name: "open".into(), joints: vec![] },
+            PreshapeSpec {
+                name: "power".into(),
+                joints: vec![(format!("{p}thumb_opposition"), 1.0), (format!("{p}thumb_j1"), 0.2)],
+            },
+        ],
+        fingers,
+        closing,
+        tactile_links,
+    }
+}
+
+/// The ARMAR-III five-finger hand (right) as a floating hand: 8 DoF with coupled joints
+/// (thumb opposition, thumb proximal, thumb distal, index proximal, index distal pair, middle
+/// proximal, middle distal pair, ring and pinky together).
+///
+/// Built from fixed data validated by the crate's tests, so it does not fail at run time.
+pub fn armar3_hand() -> Hand {
+    let robot = armar3_hand_parts("", 1.0).add_to(RobotBuilder::new("armar3_hand")).build();
+    Hand::from_robot(robot.expect("stock ARMAR-III hand model is valid"), armar3_hand_spec(""))
+        .expect("stock ARMAR-III hand spec is valid")
+}
+
+// ---------------------------------------------------------------------------------------------
+// Schunk SDH
+// ---------------------------------------------------------------------------------------------
+
+mod sdh {
+    pub const PALM_RADIUS: f64 = 0.045;
+    pub const PALM_HEIGHT: f64 = 0.095;
+    pub const FINGER_SPACING: f64 = 0.066;
+    pub const PHALANX: f64 = 0.0865;
+    pub const FINGER_WIDTH: f64 = 0.028;
+    pub const FINGER_THICK: f64 = 0.022;
+    pub const MASS: f64 = 1.95;
+}
+
+fn sdh_parts(p: &str) -> Parts {
+    use sdh::*;
+    let palm = format!("{p}palm");
+    let mut parts = Parts::default();
+    let palm_origin = Isometry3::translation(0.0, 0.0, -PALM_HEIGHT / 2.0);
+    parts.links.push(
+        Link::new(&palm)
+            .with_shape(Shape::new(palm_origin, Geometry::Cylinder { radius: PALM_RADIUS, length: PALM_HEIGHT }))
+            .with_inertial(Inertial::solid_cylinder(MASS * 0.55, PALM_RADIUS, PALM_HEIGHT, palm_origin)),
+    );
+    let m = MASS * 0.45 / 9.0;
+    let r = FINGER_SPACING / 3f64.sqrt(); // circumradius of the finger triangle
+                                          // Finger 2 alone on -x; fingers 1 and 3 on +x rotate about their vertical axes, coupled.
+    let fingers = [
+        ("f1", Vector3::new(r / 2.0, FINGER_SPACING / 2.0, 0.0), PI, Some(1.0)),
+        ("f2", Vector3::new(-r, 0.0, 0.0), 0.0, None),
+        ("f3", Vector3::new(r / 2.0, -FINGER_SPACING / 2.0, 0.0), PI, Some(-1.0)),
+    ];
+    for (f, pos, yaw, rot) in fingers {
+        let base = format!("{p}{f}_base");
+        let prox = format!("{p}{f}_proximal");
+        let dist = format!("{p}{f}_distal");
+        let origin = Isometry3::translation(pos.x, pos.y, pos.z) * iso(0.0, 0.0, 0.0, 0.0, 0.0, yaw);
+        parts.links.push(
+            Link::new(&base)
+                .with_shape(Shape::new(
+                    Isometry3::translation(0.0, 0.0, 0.009),
+                    Geometry::Cylinder { radius: 0.015, length: 0.018 },
+                ))
+                .with_inertial(Inertial::solid_cylinder(m, 0.015, 0.018, Isometry3::translation(0.0, 0.0, 0.009))),
+        );
+        match rot {
+            Some(sign) => {
+                let mut j =
+                    revolute(&format!("{p}{f}_rotation"), &palm, &base, origin, Vector3::z() * sign, 0.0, FRAC_PI_2);
+                if f == "f3" {
+                    j = j.mimic(format!("{p}f1_rotation"), 1.0, 0.0);
+                }
+                parts.joints.push(j);
+            }
+            None => parts
+                .joints
+                .push(JointSpec::new(format!("{p}{f}_rotation"), JointKind::Fixed, &palm, &base).origin(origin)),
+        }
+        parts.links.push(phalanx(&prox, PHALANX, FINGER_WIDTH, FINGER_THICK, m, 0.012));
+        parts.links.push(phalanx(&dist, PHALANX * 0.8, FINGER_WIDTH, FINGER_THICK, m, 0.012));
+        parts.joints.push(revolute(
+            &format!("{p}{f}_j2"),
+            &base,
+            &prox,
+            Isometry3::translation(0.0, 0.0, 0.018),
+            Vector3::y(),
+            -FRAC_PI_2,
+            FRAC_PI_2,
+        ));
+        parts.joints.push(revolute(
+            &format!("{p}{f}_j3"),
+            &prox,
+            &dist,
+            Isometry3::translation(0.0, 0.0, PHALANX),
+            Vector3::y(),
+            -FRAC_PI_2,
+            FRAC_PI_2,
+        ));
+        parts.allowed.push((palm.clone(), prox.clone()));
+        parts.allowed.push((base.clone(), dist.clone()));
+    }
+    parts
+}
+
+/// Open SDH preshape: finger rotation `rotation`, proximal joints opened outwards by 0.6 rad and
+/// distal joints bent back so the fingertips stay parallel.
+fn sdh_open(p: &str, rotation: f64) -> Vec<(String, f64)> {
+    let mut v = vec![(format!("{p}f1_rotation"), rotation)];
+    for f in ["f1", "f2", "f3"] {
+        v.push((format!("{p}{f}_j2"), -0.6));
+        v.push((format!("{p}{f}_j3"), 0.6));
+    }
+    v
+}
+
+/// Hand description of a Schunk SDH whose names start with `prefix`.
+pub fn sdh_spec(prefix: &str) -> HandSpec {
+    let p = prefix;
+    let fingers = ["f1", "f2", "f3"];
+    HandSpec {
+        palm_link: format!("{p}palm"),
+        palm_frame: Isometry3::identity(),
+        approach: Vector3::z(),
+        preshapes: vec![
+            PreshapeSpec { name: "open".into(), joints: sdh_open(p, 0.0) },
+            PreshapeSpec { name: "centrical".into(), joints: sdh_open(p, PI / 3.0) },
+        ],
+        fingers: fingers
+            .iter()
+            .map(|f| FingerSpec {
+                name: f.to_string(),
+                links: vec![format!("{p}{f}_proximal"), format!("{p}{f}_distal")],
+            })
+            .collect(),
+        closing: fingers.iter().flat_map(|f| [(format!("{p}{f}_j2"), 1.0), (format!("{p}{f}_j3"), 1.0)]).collect(),
+        tactile_links: fingers.iter().flat_map(|f| [format!("{p}{f}_proximal"), format!("{p}{f}_distal")]).collect(),
+    }
+}
+
+/// The Schunk SDH as a floating hand: 7 DoF (coupled rotation of fingers 1 and 3, proximal and
+/// distal flexion of each finger).
+///
+/// Built from fixed data validated by the crate's tests, so it does not fail at run time.
+pub fn sdh() -> Hand {
+    let robot = sdh_parts("").add_to(RobotBuilder::new("schunk_sdh")).build();
+    Hand::from_robot(robot.expect("stock SDH model is valid"), sdh_spec("")).expect("stock SDH spec is valid")
+}
