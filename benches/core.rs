@@ -1,1 +1,111 @@
-fn main() {}
+//! Benchmarks of opengrasp-core: forward and inverse kinematics, collision checking and
+//! distance queries. Every input is seeded.
+//!
+//! Run briefly with `cargo bench --bench core -- --warm-up-time 1 --measurement-time 3`.
+
+use std::f64::consts::PI;
+use std::hint::black_box;
+use std::sync::Arc;
+
+use criterion::{criterion_main, Criterion};
+use nalgebra::{Isometry3, Translation3, UnitQuaternion};
+use opengrasp_core::collision::CollisionWorld;
+use opengrasp_core::kinematics::{forward_kinematics, forward_kinematics_into, solve_ik, IkOptions};
+use opengrasp_core::model::{samples, Geometry, Robot, Shape};
+use opengrasp_core::scene::{RobotId, Scene, StaticBody};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// `n` configurations drawn uniformly within the joint limits.
+fn random_configurations(robot: &Robot, n: usize, seed: u64) -> Vec<Vec<f64>> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    (0..n)
+        .map(|_| {
+            (0..robot.dof())
+                .map(|i| {
+                    let (lo, hi) = robot.dof_limits(i);
+                    rng.random_range(lo.max(-PI)..hi.min(PI))
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// The 7-DoF arm among 50 seeded boxes (3-15 cm) placed 0.35-1.2 m from its axis, 0-1.4 m
+/// high: a mix of colliding and free configurations.
+fn arm_among_boxes(seed: u64) -> (Scene, RobotId, Arc<Robot>) {
+    let robot = Arc::new(samples::seven_dof_arm().expect("sample arm"));
+    let mut scene = Scene::new("arm among boxes");
+    let arm = scene.add_robot("arm", robot.clone(), Isometry3::identity()).expect("robot");
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    for i in 0..50 {
+        let r = rng.random_range(0.35..1.2);
+        let a = rng.random_range(-PI..PI);
+        let pose = Isometry3::from_parts(
+            Translation3::new(r * a.cos(), r * a.sin(), rng.random_range(0.0..1.4)),
+            UnitQuaternion::from_euler_angles(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), a),
+        );
+        let size = [(); 3].map(|_| rng.random_range(0.03..0.15));
+        let shape = Shape::at_origin(Geometry::cuboid(size[0], size[1], size[2]));
+        scene.add_body(StaticBody::new(format!("box{i}"), pose, vec![shape])).expect("body");
+    }
+    (scene, arm, robot)
+}
+
+fn bench_kinematics(c: &mut Criterion) {
+    let chain = samples::serial_chain(10).expect("chain");
+    let qs = random_configurations(&chain, 256, 1);
+    let mut poses = Vec::new();
+    let mut k = 0;
+    c.bench_function("fk_10_joint_chain", |b| {
+        b.iter(|| {
+            k = (k + 1) % qs.len();
+            forward_kinematics_into(&chain, black_box(&qs[k]), &mut poses);
+            black_box(&poses);
+        })
+    });
+
+    let arm = samples::seven_dof_arm().expect("arm");
+    let group = arm.group("arm").expect("group").clone();
+    let tip = arm.link_id("tool").expect("tool");
+    let targets: Vec<Isometry3<f64>> =
+        random_configurations(&arm, 64, 2).iter().map(|q| forward_kinematics(&arm, q).expect("fk")[tip]).collect();
+    let start = arm.home_configuration();
+    let options = IkOptions::default();
+    let mut k = 0;
+    c.bench_function("ik_7dof", |b| {
+        b.iter(|| {
+            k = (k + 1) % targets.len();
+            black_box(solve_ik(&arm, &group, tip, black_box(&targets[k]), &start, &options).expect("ik"))
+        })
+    });
+}
+
+fn bench_collision(c: &mut Criterion) {
+    let (scene, arm, robot) = arm_among_boxes(7);
+    let world = CollisionWorld::new(&scene).expect("world");
+    let qs = random_configurations(&robot, 256, 3);
+    let colliding = qs.iter().filter(|q| world.in_collision_unchecked(arm, q)).count();
+    eprintln!("collision_check_7dof_50_boxes: {colliding} of {} configurations collide", qs.len());
+    let mut k = 0;
+    c.bench_function("collision_check_7dof_50_boxes", |b| {
+        b.iter(|| {
+            k = (k + 1) % qs.len();
+            black_box(world.in_collision_unchecked(arm, black_box(&qs[k])))
+        })
+    });
+    let mut k = 0;
+    c.bench_function("min_distance_7dof_50_boxes", |b| {
+        b.iter(|| {
+            k = (k + 1) % qs.len();
+            black_box(world.distance(arm, black_box(&qs[k])).expect("distance"))
+        })
+    });
+}
+
+mod group {
+    // `criterion_group!` generates an undocumented public function.
+    #![allow(missing_docs)]
+    criterion::criterion_group!(benches, super::bench_kinematics, super::bench_collision);
+}
+criterion_main!(group::benches);

@@ -134,6 +134,16 @@ struct Item {
 struct Scratch {
     link_poses: Vec<Isometry3<f64>>,
     items: Vec<Item>,
+    /// `(lower bound, item index)` for the distance search.
+    order: Vec<(f64, u32)>,
+}
+
+/// The nearest obstacle found by a distance search.
+struct Nearest<'a> {
+    distance: f64,
+    id: Collider,
+    pose: Isometry3<f64>,
+    shape: &'a dyn ParryShape,
 }
 
 thread_local! {
@@ -170,11 +180,91 @@ fn intersects(p1: &Isometry3<f64>, s1: &dyn ParryShape, p2: &Isometry3<f64>, s2:
 ///
 /// parry3d 0.25.3's cuboid–cuboid distance (`distance_cuboid_cuboid`) transforms the second
 /// witness point twice and over-estimates separations, so box pairs go through GJK instead.
+/// Capsule–cuboid pairs (robot links against boxes, the common case) use the closed form of
+/// [`capsule_cuboid_distance`], several times faster than GJK.
 fn distance(p1: &Isometry3<f64>, s1: &dyn ParryShape, p2: &Isometry3<f64>, s2: &dyn ParryShape) -> Option<f64> {
     if let (Some(c1), Some(c2)) = (s1.as_cuboid(), s2.as_cuboid()) {
         return Some(query::details::distance_support_map_support_map(&p1.inv_mul(p2), c1, c2));
     }
+    if let (Some(c), Some(b)) = (s1.as_capsule(), s2.as_cuboid()) {
+        return Some(capsule_cuboid_distance(p1, c, p2, b));
+    }
+    if let (Some(b), Some(c)) = (s1.as_cuboid(), s2.as_capsule()) {
+        return Some(capsule_cuboid_distance(p2, c, p1, b));
+    }
     query::distance(p1, s1, p2, s2).ok()
+}
+
+/// Distance between a capsule and a cuboid (0 when they overlap), in closed form.
+///
+/// In the box frame, the squared distance from the capsule's axis point `p(t) = a + t d` to the
+/// box is `Σᵢ max(|pᵢ(t)| − hᵢ, 0)²`: convex and quadratic between the parameters where a
+/// coordinate crosses a face plane (`pᵢ(t) = ±hᵢ`). Minimising the quadratic on each of these
+/// (at most seven) intervals gives the axis–box distance exactly; the capsule radius is then
+/// subtracted.
+fn capsule_cuboid_distance(
+    capsule_pose: &Isometry3<f64>,
+    capsule: &parry3d_f64::shape::Capsule,
+    box_pose: &Isometry3<f64>,
+    cuboid: &parry3d_f64::shape::Cuboid,
+) -> f64 {
+    let to_box = box_pose.inv_mul(capsule_pose);
+    let a = to_box * capsule.segment.a;
+    let d = to_box * capsule.segment.b - a;
+    let h = cuboid.half_extents;
+    let mut breaks = [0.0_f64; 8];
+    let mut n = 0;
+    breaks[n] = 0.0;
+    n += 1;
+    for i in 0..3 {
+        if d[i] != 0.0 {
+            for face in [-h[i], h[i]] {
+                let t = (face - a[i]) / d[i];
+                if t > 0.0 && t < 1.0 {
+                    breaks[n] = t;
+                    n += 1;
+                }
+            }
+        }
+    }
+    breaks[n] = 1.0;
+    n += 1;
+    let breaks = &mut breaks[..n];
+    breaks.sort_unstable_by(f64::total_cmp);
+    let sq_dist = |t: f64| -> f64 {
+        (0..3)
+            .map(|i| {
+                let excess = (a[i] + t * d[i]).abs() - h[i];
+                if excess > 0.0 {
+                    excess * excess
+                } else {
+                    0.0
+                }
+            })
+            .sum()
+    };
+    let mut best = sq_dist(0.0).min(sq_dist(1.0));
+    for w in breaks.windows(2) {
+        let (t0, t1) = (w[0], w[1]);
+        if t1 <= t0 {
+            continue;
+        }
+        // Active faces are fixed on the interval: g(t) = Σ (c + t e)² over active axes.
+        let mid = 0.5 * (t0 + t1);
+        let (mut num, mut den) = (0.0, 0.0);
+        for i in 0..3 {
+            let p = a[i] + mid * d[i];
+            if p.abs() > h[i] {
+                let sign = p.signum();
+                let (c, e) = (sign * a[i] - h[i], sign * d[i]);
+                num -= c * e;
+                den += e * e;
+            }
+        }
+        let t = if den > 0.0 { (num / den).clamp(t0, t1) } else { mid };
+        best = best.min(sq_dist(t));
+    }
+    (best.sqrt() - capsule.radius).max(0.0)
 }
 
 fn check_pose(what: &str, pose: &Isometry3<f64>) -> Result<()> {
@@ -212,6 +302,8 @@ struct Obstacle<'a> {
 #[derive(Clone, Debug)]
 pub struct CollisionWorld {
     options: CollisionOptions,
+    /// World pose of each static body (to detect changes in [`CollisionWorld::sync`]).
+    body_poses: Vec<Isometry3<f64>>,
     env: Vec<EnvPart>,
     env_bvh: Bvh,
     objects: Vec<ObjectEntry>,
@@ -287,7 +379,8 @@ impl CollisionWorld {
             entry.update_world(&mut link_poses);
             robots.push(entry);
         }
-        let mut world = Self { options, env, env_bvh, objects, robots };
+        let body_poses = scene.bodies().iter().map(|b| b.pose).collect();
+        let mut world = Self { options, body_poses, env, env_bvh, objects, robots };
         for a in scene.attachments() {
             world.robot_entry(a.robot)?;
             world.object_entry(a.object)?;
@@ -478,60 +571,43 @@ impl CollisionWorld {
     }
 
     /// Brings the world up to date with `scene` after it was edited: object poses, robot base
-    /// poses and configurations, and attachments are copied; static bodies are re-placed (and
-    /// the hierarchy rebuilt) if any moved. If bodies, objects or robots were added since the
-    /// world was built (or shapes changed), the world is rebuilt from scratch, which drops
-    /// pairs allowed with [`allow_collision`](Self::allow_collision) and touch links.
+    /// poses, stored configurations and attachments are copied (touch links added with
+    /// [`allow_touch`](Self::allow_touch) are kept for attachments that did not change). If the
+    /// scene's structure differs — bodies, objects or robots added, a body moved, an object's
+    /// shape count or a robot model changed — the world is rebuilt from scratch instead, which
+    /// drops pairs allowed with [`allow_collision`](Self::allow_collision) and touch links.
     ///
     /// # Errors
     /// As [`CollisionWorld::new`].
     pub fn sync(&mut self, scene: &Scene) -> Result<()> {
-        let same_structure = scene.objects().len() == self.objects.len()
+        let same_structure = scene.bodies().len() == self.body_poses.len()
+            && scene.bodies().iter().zip(&self.body_poses).all(|(b, p)| b.pose == *p)
+            && scene.bodies().iter().map(|b| b.shapes.len()).sum::<usize>() == self.env.len()
+            && scene.objects().len() == self.objects.len()
+            && scene.objects().iter().zip(&self.objects).all(|(s, w)| s.shapes.len() == w.parts.len())
             && scene.robots().len() == self.robots.len()
-            && scene.robots().iter().zip(&self.robots).all(|(s, w)| Arc::ptr_eq(&s.robot, &w.robot))
-            && scene.bodies().iter().map(|b| b.shapes.len()).sum::<usize>() == self.env.len();
+            && scene.robots().iter().zip(&self.robots).all(|(s, w)| Arc::ptr_eq(&s.robot, &w.robot));
         if !same_structure {
             *self = Self::with_options(scene, self.options)?;
             return Ok(());
         }
-        let mut moved = false;
-        let mut k = 0;
-        for (i, body) in scene.bodies().iter().enumerate() {
-            for s in &body.shapes {
-                let e = &mut self.env[k];
-                if e.body != BodyId(i) {
-                    *self = Self::with_options(scene, self.options)?;
-                    return Ok(());
-                }
-                // `part.local` includes the axis correction; recompute it from the new origin.
-                let correction = s.origin.inverse() * e.part.local;
-                let new_pose = body.pose * s.origin * correction;
-                if (new_pose.to_homogeneous() - e.pose.to_homogeneous()).abs().max() > 0.0 {
-                    e.pose = new_pose;
-                    e.aabb = e.part.shape.compute_aabb(&new_pose);
-                    moved = true;
-                }
-                k += 1;
-            }
-        }
-        if moved {
-            self.env_bvh =
-                Bvh::from_iter(BvhBuildStrategy::Binned, self.env.iter().enumerate().map(|(i, p)| (i, p.aabb)));
-        }
-        for (o, so) in self.objects.iter_mut().zip(scene.objects()) {
+        for (i, (o, so)) in self.objects.iter_mut().zip(scene.objects()).enumerate() {
+            let old = o.attached.take();
             o.pose = so.pose;
-            o.attached = None;
             o.update_world();
+            if let Some(a) = scene.attachments().iter().find(|a| a.object.0 == i) {
+                let touch = match old {
+                    Some(old) if old.robot == a.robot && old.link == a.link => old.touch,
+                    _ => vec![a.link],
+                };
+                o.attached = Some(AttachInfo { robot: a.robot, link: a.link, offset: a.offset, touch });
+            }
         }
         let mut buf = Vec::new();
         for (r, sr) in self.robots.iter_mut().zip(scene.robots()) {
             r.base_pose = sr.base_pose;
             r.q.clone_from(&sr.q);
             r.update_world(&mut buf);
-        }
-        for a in scene.attachments() {
-            self.objects[a.object.0].attached =
-                Some(AttachInfo { robot: a.robot, link: a.link, offset: a.offset, touch: vec![a.link] });
         }
         for r in 0..self.robots.len() {
             self.update_attached(RobotId(r));
@@ -708,11 +784,29 @@ impl CollisionWorld {
     // Distances
     // ----------------------------------------------------------------------------------------
 
-    /// Minimum distance (lower than `bound`) from one item to the obstacles: `(distance,
-    /// obstacle)`; distances are ≥ 0 (0 when touching or overlapping).
-    fn item_min_distance(&self, rid: usize, item: &Item, bound: f64) -> Option<(f64, Collider)> {
+    /// Lower bound of the distance from one item to the obstacles: the distance between its
+    /// AABB and the nearest obstacle AABB (`+inf` without obstacles).
+    fn item_lower_bound(&self, rid: usize, item: &Item) -> f64 {
+        let mut lb = self
+            .env_bvh
+            .find_best(
+                f64::INFINITY,
+                |node, _| aabb_distance(&node.aabb(), &item.aabb),
+                |leaf, _| Some(aabb_distance(&self.env[leaf as usize].aabb, &item.aabb)),
+            )
+            .map_or(f64::INFINITY, |(_, d)| d);
+        let _ = self.visit_dynamic(rid, |o| {
+            lb = lb.min(aabb_distance(o.aabb, &item.aabb));
+            ControlFlow::Continue(())
+        });
+        lb
+    }
+
+    /// Nearest obstacle of one item if nearer than `bound` (branch and bound over the
+    /// hierarchy, nearest AABB first); distances are ≥ 0 (0 when touching or overlapping).
+    fn item_min_distance(&self, rid: usize, item: &Item, bound: f64) -> Option<Nearest<'_>> {
         let shape = self.item_shape(rid, item);
-        let mut best: Option<(f64, Collider)> = None;
+        let mut best: Option<Nearest<'_>> = None;
         let mut bound = bound;
         if let Some((leaf, d)) = self.env_bvh.find_best(
             bound,
@@ -723,14 +817,15 @@ impl CollisionWorld {
             },
         ) {
             bound = d;
-            best = Some((d, Collider::Body(self.env[leaf as usize].body)));
+            let e = &self.env[leaf as usize];
+            best = Some(Nearest { distance: d, id: Collider::Body(e.body), pose: e.pose, shape: &*e.part.shape });
         }
         let _ = self.visit_dynamic(rid, |o| {
             if aabb_distance(o.aabb, &item.aabb) < bound {
                 if let Some(d) = distance(&item.pose, shape, o.pose, o.shape) {
                     if d < bound {
                         bound = d;
-                        best = Some((d, o.id));
+                        best = Some(Nearest { distance: d, id: o.id, pose: *o.pose, shape: o.shape });
                     }
                 }
             }
@@ -745,6 +840,10 @@ impl CollisionWorld {
         let shape = self.item_shape(rid, item);
         let mut best: Option<(Collider, query::Contact)> = None;
         let _ = self.visit_near(rid, &item.aabb, 0.0, |o| {
+            // Separated pairs are skipped with the (cheaper) distance before running EPA.
+            if distance(&item.pose, shape, o.pose, o.shape).is_some_and(|d| d > 0.0) {
+                return ControlFlow::Continue(());
+            }
             if let Ok(Some(c)) = query::contact(&item.pose, shape, o.pose, o.shape, 0.0) {
                 if c.dist <= 0.0 && best.as_ref().is_none_or(|(_, b)| c.dist < b.dist) {
                     best = Some((o.id, c));
@@ -753,43 +852,6 @@ impl CollisionWorld {
             ControlFlow::Continue(())
         });
         best
-    }
-
-    fn obstacle_by_id(
-        &self,
-        id: Collider,
-        pick: impl Fn(&dyn ParryShape, &Isometry3<f64>) -> bool,
-    ) -> Option<(Isometry3<f64>, &dyn ParryShape)> {
-        let mut found = None;
-        match id {
-            Collider::Body(b) => {
-                for e in self.env.iter().filter(|e| e.body == b) {
-                    if pick(&*e.part.shape, &e.pose) {
-                        found = Some((e.pose, &*e.part.shape));
-                        break;
-                    }
-                }
-            }
-            Collider::Object(o) => {
-                let o = &self.objects[o.0];
-                for (p, (pose, _)) in o.parts.iter().zip(&o.world) {
-                    if pick(&*p.shape, pose) {
-                        found = Some((*pose, &*p.shape));
-                        break;
-                    }
-                }
-            }
-            Collider::Link(r, l) => {
-                let r = &self.robots[r.0];
-                for ((p, pl), (pose, _)) in r.parts.iter().zip(&r.part_link).zip(&r.world) {
-                    if *pl == l && pick(&*p.shape, pose) {
-                        found = Some((*pose, &*p.shape));
-                        break;
-                    }
-                }
-            }
-        }
-        found
     }
 
     /// Minimum distance from the robot at `q` (links and attached objects) to its obstacles —
@@ -815,22 +877,30 @@ impl CollisionWorld {
         }
         with_scratch(|s| {
             self.place(rid, q, s);
-            // Branch and bound over items, nearest-AABB first.
-            let mut best: Option<(usize, f64, Collider)> = None;
-            let mut bound = f64::INFINITY;
+            // Items in increasing order of their AABB lower bound, so that the bound tightens
+            // early and far links are pruned without exact queries.
+            s.order.clear();
             for (k, item) in s.items.iter().enumerate() {
-                if let Some((d, id)) = self.item_min_distance(rid, item, bound) {
-                    if d < bound {
-                        bound = d;
-                        best = Some((k, d, id));
-                    }
+                s.order.push((self.item_lower_bound(rid, item), k as u32));
+            }
+            s.order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+            let mut best: Option<(usize, Nearest<'_>)> = None;
+            let mut bound = f64::INFINITY;
+            for &(lb, k) in &s.order {
+                if lb >= bound {
+                    break;
+                }
+                if let Some(n) = self.item_min_distance(rid, &s.items[k as usize], bound) {
+                    bound = n.distance;
+                    best = Some((k as usize, n));
                 }
             }
-            let Some((k, d, id)) = best else {
+            let Some((k, nearest)) = best else {
                 return Err(CoreError::EmptyScene {
                     reason: "no obstacle within reach of the robot's geometry".into(),
                 });
             };
+            let d = nearest.distance;
             let (k, contact, other) = if d <= 0.0 {
                 // Penetrating: report the deepest penetration over all items.
                 let mut deepest: Option<(usize, Collider, query::Contact)> = None;
@@ -843,21 +913,16 @@ impl CollisionWorld {
                 }
                 match deepest {
                     Some((k, id, c)) => (k, Some(c), id),
-                    None => (k, None, id),
+                    None => (k, None, nearest.id),
                 }
             } else {
+                // Witness points of the nearest pair.
                 let item = &s.items[k];
                 let shape = self.item_shape(rid, item);
-                // Witness points of the best pair (the obstacle part with that distance).
-                let target = self.obstacle_by_id(id, |os, op| {
-                    query::distance(&item.pose, shape, op, os)
-                        .map(|dd| (dd - d).abs() <= 1e-9 * (1.0 + d))
-                        .unwrap_or(false)
-                });
-                let c = target.and_then(|(op, os)| {
-                    query::contact(&item.pose, shape, &op, os, d * (1.0 + 1e-6) + 1e-9).ok().flatten()
-                });
-                (k, c, id)
+                // Generous: parry's GJK may find a slightly larger distance than the search.
+                let prediction = 2.0 * d + 1e-6;
+                let c = query::contact(&item.pose, shape, &nearest.pose, nearest.shape, prediction).ok().flatten();
+                (k, c, nearest.id)
             };
             let item = &s.items[k];
             let attached = match item.owner {
@@ -883,19 +948,31 @@ impl CollisionWorld {
     /// # Errors
     /// As [`in_collision`](Self::in_collision).
     pub fn link_distances(&self, robot: RobotId, q: &[f64]) -> Result<Vec<f64>> {
+        let mut out = Vec::new();
+        self.link_distances_into(robot, q, &mut out)?;
+        Ok(out)
+    }
+
+    /// [`link_distances`](Self::link_distances) into a reused buffer (cleared and resized to
+    /// the link count).
+    ///
+    /// # Errors
+    /// As [`in_collision`](Self::in_collision).
+    pub fn link_distances_into(&self, robot: RobotId, q: &[f64], out: &mut Vec<f64>) -> Result<()> {
         self.validate(robot, q)?;
         let rid = robot.0;
-        let mut out = vec![f64::INFINITY; self.robots[rid].n_links()];
+        out.clear();
+        out.resize(self.robots[rid].n_links(), f64::INFINITY);
         with_scratch(|s| {
             self.place(rid, q, s);
             for item in &s.items {
                 let l = item.link.0;
-                if let Some((d, _)) = self.item_min_distance(rid, item, out[l]) {
-                    out[l] = out[l].min(d);
+                if let Some(n) = self.item_min_distance(rid, item, out[l]) {
+                    out[l] = out[l].min(n.distance);
                 }
             }
         });
-        Ok(out)
+        Ok(())
     }
 
     // ----------------------------------------------------------------------------------------
@@ -1011,8 +1088,8 @@ fn to_contact(link: LinkId, other: Collider, c: &query::Contact) -> Contact {
     Contact { link, other, point_on_robot: c.point1, point_on_other: c.point2, normal: -c.normal1, depth: -c.dist }
 }
 
-#[allow(dead_code)]
-fn _assert_send_sync() {
-    fn is<T: Send + Sync>() {}
-    is::<CollisionWorld>();
-}
+// The world is shared between threads (benchmarks, parallel planners).
+const _: fn() = || {
+    fn is_send_sync<T: Send + Sync>() {}
+    is_send_sync::<CollisionWorld>();
+};
