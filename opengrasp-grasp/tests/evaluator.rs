@@ -1,0 +1,225 @@
+//! Tests of the shared grasp evaluator with the asset hands on analytic meshes.
+
+use std::f64::consts::PI;
+use std::sync::Arc;
+
+use nalgebra::{Point3, Unit, Vector3};
+use opengrasp_assets::hands;
+use opengrasp_core::model::TriangleMesh;
+use opengrasp_grasp::evaluator::{
+    hand_info, physics_check, EvaluationStatus, EvaluatorOptions, GraspEvaluation, GraspEvaluator, PhysicsCheckOptions,
+};
+use opengrasp_grasp::planners::{
+    palm_pose, GraspCandidate, GraspPlanner, GraspRequest, HandInfo, MedialAxisPlanner, Preshape, SurfaceNormalPlanner,
+};
+
+/// A closed cylinder mesh along z, centred at the origin, with `n` sides.
+fn cylinder_mesh(radius: f64, length: f64, n: usize) -> TriangleMesh {
+    let mut v = Vec::new();
+    for k in 0..n {
+        let a = 2.0 * PI * k as f64 / n as f64;
+        v.push(Point3::new(radius * a.cos(), radius * a.sin(), -length / 2.0));
+        v.push(Point3::new(radius * a.cos(), radius * a.sin(), length / 2.0));
+    }
+    let bottom = v.len() as u32;
+    v.push(Point3::new(0.0, 0.0, -length / 2.0));
+    let top = v.len() as u32;
+    v.push(Point3::new(0.0, 0.0, length / 2.0));
+    let mut t = Vec::new();
+    for k in 0..n as u32 {
+        let k2 = (k + 1) % n as u32;
+        let (b0, t0, b1, t1) = (2 * k, 2 * k + 1, 2 * k2, 2 * k2 + 1);
+        t.push([b0, b1, t1]);
+        t.push([b0, t1, t0]);
+        t.push([bottom, b1, b0]);
+        t.push([top, t0, t1]);
+    }
+    TriangleMesh::new(v, t).unwrap()
+}
+
+fn side_grasp(info: &HandInfo) -> GraspCandidate {
+    // Hand on the +x side moving towards -x, fingers closing along y around the z axis.
+    let approach = Unit::new_normalize(-Vector3::x());
+    GraspCandidate {
+        hand_pose: palm_pose(info, &Point3::origin(), &approach, &Vector3::y()),
+        preshape: Preshape::Default,
+        approach,
+        standoff: 0.0,
+    }
+}
+
+#[test]
+fn barrett_wraps_a_cylinder_in_force_closure() {
+    let hand = hands::barrett();
+    let info = hand_info(&hand).unwrap();
+    let radius = 0.02;
+    let mesh = Arc::new(cylinder_mesh(radius, 0.3, 48));
+    let mut ev = GraspEvaluator::from_mesh(&hand, mesh, Point3::origin(), 0.5, EvaluatorOptions::default()).unwrap();
+    let e = ev.evaluate(&side_grasp(&info)).unwrap();
+    assert_eq!(e.status, EvaluationStatus::Closed);
+    // The palm was retracted to the surface: its origin ends about one radius from the axis.
+    let p = e.hand_pose.translation.vector;
+    assert!((p.x - radius).abs() < 2e-3, "palm at {p:?}");
+    assert!(e.palm_contact);
+    assert_eq!(e.fingers_in_contact, 3, "{:?}", e.contacts);
+    assert!(e.force_closure());
+    assert!(e.epsilon() > 0.0);
+    for c in &e.contacts {
+        // Contacts lie on the cylinder surface with inward (radial) normals.
+        let r = c.contact.point.x.hypot(c.contact.point.y);
+        assert!((r - radius).abs() < 3e-3, "contact at radius {r}");
+    }
+}
+
+#[test]
+fn hand_info_of_the_stock_hands() {
+    // Barrett: palm normal +z, F3 opposite F1/F2 along x.
+    let barrett = hand_info(&hands::barrett()).unwrap();
+    assert!((barrett.approach.into_inner() - Vector3::z()).norm() < 1e-12);
+    assert!(barrett.closing.x.abs() > 0.99, "{:?}", barrett.closing);
+    assert!(barrett.max_aperture > 0.1 && barrett.max_aperture < 0.4, "{}", barrett.max_aperture);
+    // ARMAR-III: palm normal +x, fingers curl along the palm's long axis z.
+    let armar = hand_info(&hands::armar3_hand()).unwrap();
+    assert!((armar.approach.into_inner() - Vector3::x()).norm() < 1e-12);
+    assert!(armar.closing.z.abs() > 0.9, "{:?}", armar.closing);
+    assert_eq!(armar.preshapes[0], "open");
+}
+
+#[test]
+fn approach_that_misses_the_object_is_reported() {
+    let hand = hands::barrett();
+    let info = hand_info(&hand).unwrap();
+    let mesh = Arc::new(cylinder_mesh(0.02, 0.2, 32));
+    let mut ev = GraspEvaluator::from_mesh(&hand, mesh, Point3::origin(), 0.5, EvaluatorOptions::default()).unwrap();
+    // Aimed 0.5 m beside the cylinder.
+    let mut c = side_grasp(&info);
+    c.hand_pose.translation.vector.y = 0.5;
+    let e = ev.evaluate(&c).unwrap();
+    assert_eq!(e.status, EvaluationStatus::Missed);
+    assert!(e.contacts.is_empty() && !e.force_closure() && e.quality.is_none());
+    // Unknown preshape and non-finite poses are errors, not panics.
+    let mut bad = side_grasp(&info);
+    bad.preshape = Preshape::Named("no such preshape".into());
+    assert!(ev.evaluate(&bad).is_err());
+    let mut bad = side_grasp(&info);
+    bad.hand_pose.translation.vector.x = f64::NAN;
+    assert!(ev.evaluate(&bad).is_err());
+}
+
+#[test]
+fn standoff_keeps_the_palm_off_the_object() {
+    let hand = hands::barrett();
+    let info = hand_info(&hand).unwrap();
+    let radius = 0.02;
+    let mesh = Arc::new(cylinder_mesh(radius, 0.3, 48));
+    let mut ev = GraspEvaluator::from_mesh(&hand, mesh, Point3::origin(), 0.5, EvaluatorOptions::default()).unwrap();
+    let mut c = side_grasp(&info);
+    c.standoff = 0.025;
+    let e = ev.evaluate(&c).unwrap();
+    let p = e.hand_pose.translation.vector;
+    assert!((p.x - radius - 0.025).abs() < 2e-3, "palm at {p:?}");
+    assert!(!e.palm_contact);
+}
+
+#[test]
+fn evaluation_is_deterministic_and_planners_share_the_criterion() {
+    let hand = hands::armar3_hand();
+    let object = opengrasp_assets::objects::by_name("salt_can").unwrap();
+    let mut ev = GraspEvaluator::new(&hand, &object, EvaluatorOptions::default()).unwrap();
+    let info = ev.hand_info().clone();
+    let request = GraspRequest { hand: &info, object: &object.mesh, seed: 3 };
+    let planners: [&dyn GraspPlanner; 2] = [&MedialAxisPlanner::default(), &SurfaceNormalPlanner::default()];
+    for planner in planners {
+        let candidates = planner.plan(&request).unwrap();
+        let picked: Vec<_> = candidates.iter().step_by(candidates.len() / 6 + 1).collect();
+        let first: Vec<_> = picked.iter().map(|c| ev.evaluate(c).unwrap()).collect();
+        let second: Vec<_> = picked.iter().map(|c| ev.evaluate(c).unwrap()).collect();
+        assert_eq!(first, second);
+        assert!(first.iter().any(|e| e.status == EvaluationStatus::Closed && !e.contacts.is_empty()));
+    }
+}
+
+#[test]
+fn physics_check_holds_a_force_closure_wrap() {
+    let hand = hands::barrett();
+    let info = hand_info(&hand).unwrap();
+    let object =
+        opengrasp_assets::objects::ObjectModel::from_mesh("can", cylinder_mesh(0.02, 0.2, 32), 0.1, 0.8).unwrap();
+    let mut ev = GraspEvaluator::new(&hand, &object, EvaluatorOptions::default()).unwrap();
+    let e = ev.evaluate(&side_grasp(&info)).unwrap();
+    assert!(e.force_closure());
+    let options = PhysicsCheckOptions { directions: vec![-Vector3::z(), Vector3::y()], ..Default::default() };
+    let outcome = physics_check(&hand, &object, &e, &options).unwrap();
+    assert_eq!(outcome.held_per_direction.len(), 2);
+    assert!(outcome.held(), "{outcome:?}");
+    // An open hand that does not squeeze lets the can slide out along its axis.
+    let open = GraspEvaluation { q: hand.open_configuration(), ..e.clone() };
+    let loose = PhysicsCheckOptions { squeeze: 0.0, directions: vec![-Vector3::z()], ..Default::default() };
+    let dropped = physics_check(&hand, &object, &open, &loose).unwrap();
+    assert!(!dropped.held(), "{dropped:?}");
+}
+
+#[test]
+fn small_benchmark_has_the_paper_table_shape() {
+    use opengrasp_grasp::benchmark::{run_grasp_benchmark, BenchmarkHand, GraspBenchmarkConfig, GraspBenchmarkResults};
+    let config = GraspBenchmarkConfig {
+        objects: vec!["salt_box".into()],
+        hands: vec![BenchmarkHand::Barrett],
+        max_candidates: Some(6),
+        ..Default::default()
+    };
+    let results = run_grasp_benchmark(&config).unwrap();
+    assert_eq!(results.cells.len(), 2);
+    assert_eq!(results.total_evaluated, 12);
+    for c in &results.cells {
+        assert_eq!(c.evaluated, 6);
+        assert!(c.generated >= 6);
+        assert!(c.force_closure_palm <= c.palm_contact && c.palm_contact <= c.evaluated);
+        assert!((0.0..=100.0).contains(&c.fc_percent_palm));
+    }
+    let table = results.table("barrett");
+    assert!(table.contains("Salt box") && table.contains("408/94.4%"), "{table}");
+    let json = results.to_json().unwrap();
+    let back: GraspBenchmarkResults = serde_json::from_str(&json).unwrap();
+    assert_eq!(back, results);
+    // Same seed, same numbers (timings aside).
+    let again = run_grasp_benchmark(&config).unwrap();
+    for (a, b) in results.cells.iter().zip(&again.cells) {
+        assert_eq!(
+            (a.palm_contact, a.force_closure, a.mean_epsilon),
+            (b.palm_contact, b.force_closure, b.mean_epsilon)
+        );
+    }
+}
+
+#[test]
+fn optional_metrics_friction_score_and_robust_epsilon() {
+    let hand = hands::barrett();
+    let info = hand_info(&hand).unwrap();
+    let mesh = Arc::new(cylinder_mesh(0.02, 0.3, 48));
+    let options = EvaluatorOptions {
+        friction_score: true,
+        robust: Some(opengrasp_grasp::RobustOptions { samples: 8, ..Default::default() }),
+        ..Default::default()
+    };
+    let mut ev = GraspEvaluator::from_mesh(&hand, mesh, Point3::origin(), 0.5, options).unwrap();
+    let e = ev.evaluate(&side_grasp(&info)).unwrap();
+    assert!(e.force_closure());
+    // Force closure at μ = 0.5, so the smallest sufficient μ of the sweep is at most 0.4.
+    let mu = e.friction_score.expect("requested").expect("force closure within the sweep");
+    assert!(mu <= 0.4 + 1e-12, "friction score {mu}");
+    let robust = e.robust_epsilon.expect("requested");
+    assert_eq!(robust.samples, 8);
+    assert!(robust.mean > 0.0 && robust.force_closure_rate > 0.0);
+    // Not requested: absent.
+    let mut plain = GraspEvaluator::from_mesh(
+        &hand,
+        Arc::new(cylinder_mesh(0.02, 0.3, 48)),
+        Point3::origin(),
+        0.5,
+        EvaluatorOptions::default(),
+    )
+    .unwrap();
+    let p = plain.evaluate(&side_grasp(&info)).unwrap();
+    assert!(p.friction_score.is_none() && p.robust_epsilon.is_none());
+}
