@@ -1,5 +1,6 @@
 //! Benchmarks of opengrasp-grasp: one candidate through the shared grasp evaluator (place,
-//! retract, close, contacts, quality), with and without the 6-D hull, and candidate generation
+//! retract, close, contacts, quality) on the salt can with and without the 6-D hull and on the
+//! non-convex detergent bottle, and candidate generation
 //! of the two reference planners. Inputs are deterministic (fixed candidates, seed 0).
 //!
 //! Run briefly with `cargo bench --bench grasp -- --warm-up-time 1 --measurement-time 3`.
@@ -31,6 +32,22 @@ fn evaluation(c: &mut Criterion) {
                 })
             });
         }
+    }
+    // A non-convex object (exact triangle-mesh distances near the surface while closing).
+    let object = objects::by_name("detergent_bottle").expect("stock object");
+    for (name, hand) in [("barrett", hands::barrett()), ("armar3", hands::armar3_hand())] {
+        let mut ev = GraspEvaluator::new(&hand, &object, EvaluatorOptions::default()).expect("evaluator");
+        let info = ev.hand_info().clone();
+        let candidates = SurfaceNormalPlanner::default()
+            .plan(&GraspRequest { hand: &info, object: &object.mesh, seed: 0 })
+            .expect("candidates");
+        let mut k = 0;
+        c.bench_function(&format!("evaluate/{name}/detergent_bottle/all metrics"), |b| {
+            b.iter(|| {
+                k = (k + 7) % candidates.len();
+                black_box(ev.evaluate(&candidates[k]).expect("evaluation"))
+            })
+        });
     }
 }
 

@@ -333,6 +333,8 @@ mod bh {
     pub const PROXIMAL_MAX: f64 = 2.443; // 140°
     pub const DISTAL_RATIO: f64 = 48.0 / 140.0; // TorqueSwitch: 48° outer for 140° inner
     pub const MASS: f64 = 1.18;
+    /// Spread effort limit (N m): the worm-gear spread drive is not back-drivable.
+    pub const SPREAD_EFFORT: f64 = 50.0;
 }
 
 /// The Barrett BH8-262 parts under `palm` (prefix applied to every name). Palm surface at
@@ -374,7 +376,9 @@ fn barrett_parts(p: &str) -> Parts {
         let spread_joint = format!("{p}{f}_spread");
         match spread {
             Some(sign) => {
-                let mut j = revolute(&spread_joint, &palm, &knuckle, kn_origin, Vector3::z() * sign, 0.0, PI);
+                let axis = Vector3::z() * sign;
+                let mut j = revolute(&spread_joint, &palm, &knuckle, kn_origin, axis, 0.0, PI);
+                j = j.limits(0.0, PI, 2.0, SPREAD_EFFORT);
                 if sign < 0.0 {
                     j = j.mimic(format!("{p}f1_spread"), 1.0, 0.0);
                 }
@@ -463,6 +467,11 @@ mod ah {
     pub const PALM_WIDTH: f64 = 0.085;
     pub const PALM_THICK: f64 = 0.030;
     pub const FINGER_WIDTH: f64 = 0.017;
+    /// Thumb phalanges (proximal, distal).
+    pub const THUMB: [f64; 2] = [0.045, 0.032];
+    /// Thumb base: off the palm's mid-line towards the thumb side, 5 mm above the wrist.
+    pub const THUMB_BASE_Y: f64 = 0.022;
+    pub const THUMB_BASE_Z: f64 = 0.005;
     pub const MASS: f64 = 0.25;
 }
 
@@ -520,9 +529,12 @@ pub(crate) fn armar3_hand_parts(p: &str, side: f64) -> Parts {
             }
         }
     }
-    // Thumb: base on the palm's thumb side, abducted 45° in the palm plane; an opposition joint
-    // (the hand's palm DoF) swings it in front of the palm, then two flexion joints.
-    let thumb_dir = Vector3::new(0.0, side * FRAC_PI_2.sin() * 0.0 + side * 0.5f64.sqrt(), 0.5f64.sqrt());
+    // Thumb: its base sits low on the palm (near the wrist) on the thumb side; the base rotation
+    // (the hand's palm DoF) swings it about the palm's long axis from the palm plane (pointing
+    // sideways) to straight out of the palm, and its two flexion joints curl it towards the
+    // fingers, so in a power grasp it pushes the object from the wrist side against the
+    // fingers wrapped around it from the fingertip side.
+    let thumb_dir = Vector3::y() * side;
     let rot = UnitQuaternion::rotation_between(&Vector3::z(), &thumb_dir).unwrap_or_else(UnitQuaternion::identity);
     let base = format!("{p}thumb_base");
     let tn = [format!("{p}thumb_1"), format!("{p}thumb_2")];
@@ -535,15 +547,17 @@ pub(crate) fn armar3_hand_parts(p: &str, side: f64) -> Parts {
         &format!("{p}thumb_opposition"),
         &palm,
         &base,
-        Isometry3::translation(0.0, side * (PALM_WIDTH / 2.0 + 0.004), 0.030),
+        Isometry3::translation(0.0, side * THUMB_BASE_Y, THUMB_BASE_Z),
         -Vector3::z() * side,
         0.0,
         FRAC_PI_2,
     ));
-    parts.links.push(phalanx(&tn[0], 0.045, FINGER_WIDTH * 1.1, FINGER_WIDTH * 1.1, m, 0.012));
-    parts.links.push(phalanx(&tn[1], 0.032, FINGER_WIDTH * 1.1, FINGER_WIDTH * 1.1, m, 0.004));
-    // Flexion axis: the thumb tip moves towards the palm front (+x).
-    let flex_axis = rot.inverse() * thumb_dir.cross(&Vector3::x());
+    parts.links.push(phalanx(&tn[0], THUMB[0], FINGER_WIDTH * 1.1, FINGER_WIDTH * 1.1, m, 0.012));
+    parts.links.push(phalanx(&tn[1], THUMB[1], FINGER_WIDTH * 1.1, FINGER_WIDTH * 1.1, m, 0.004));
+    // Flexion axis: along the palm normal before opposition (the tip moves towards the fingers,
+    // +z); the opposition turns it with the thumb, so when the thumb stands out of the palm the
+    // tip still moves towards the fingers.
+    let flex_axis = rot.inverse() * (Vector3::x() * side);
     parts.joints.push(revolute(
         &format!("{p}thumb_j1"),
         &base,
@@ -557,7 +571,7 @@ pub(crate) fn armar3_hand_parts(p: &str, side: f64) -> Parts {
         &format!("{p}thumb_j2"),
         &tn[0],
         &tn[1],
-        Isometry3::translation(0.0, 0.0, 0.045),
+        Isometry3::translation(0.0, 0.0, THUMB[0]),
         flex_axis,
         0.0,
         FRAC_PI_2,
@@ -589,10 +603,15 @@ pub fn armar3_hand_spec(prefix: &str) -> HandSpec {
         palm_frame: Isometry3::translation(ah::PALM_THICK / 2.0, 0.0, ah::PALM_LENGTH * 0.6),
         approach: Vector3::x(),
         preshapes: vec![
-            PreshapeSpec { name: "open".into(), joints: vec![] },
+            // Open hand ready for a power grasp: fingers and thumb extended, the thumb rotated
+            // out of the palm to oppose the fingers (closing then flexes it towards them).
+            PreshapeSpec { name: "open".into(), joints: vec![(format!("{p}thumb_opposition"), FRAC_PI_2)] },
+            // Cupped hand for a power grasp: thumb rotated out, finger bases pre-flexed 0.4 rad.
             PreshapeSpec {
                 name: "power".into(),
-                joints: vec![(format!("{p}thumb_opposition"), 1.0), (format!("{p}thumb_j1"), 0.2)],
+                joints: std::iter::once((format!("{p}thumb_opposition"), FRAC_PI_2))
+                    .chain(["index_j1", "middle_j1", "ring_j1"].iter().map(|j| (format!("{p}{j}"), 0.4)))
+                    .collect(),
             },
         ],
         fingers,

@@ -439,9 +439,10 @@ impl GraspEvaluator {
         let object = scene.add_object(SceneObject::new("object", Isometry3::identity(), vec![shape], 1.0))?;
         let far = Isometry3::translation(1e3, 0.0, 0.0);
         let robot = scene.add_robot("hand", hand.robot_arc(), far)?;
-        let world = CollisionWorld::with_options(&scene, CollisionOptions { meshes: MeshRepresentation::Auto })?;
+        let world =
+            CollisionWorld::with_options(&scene, CollisionOptions { meshes: MeshRepresentation::AutoClimbing })?;
         let hull_world =
-            CollisionWorld::with_options(&scene, CollisionOptions { meshes: MeshRepresentation::ConvexHull })?;
+            CollisionWorld::with_options(&scene, CollisionOptions { meshes: MeshRepresentation::ClimbingHull })?;
         let object_radius = object_mesh.vertices().iter().map(|v| v.coords.norm()).fold(0.0, f64::max);
         let hand_radius = hand_radius(hand, &data)?;
         // Convex if the mesh fills its hull (the same 0.1 % rule as the collision world's
@@ -587,10 +588,7 @@ impl GraspEvaluator {
         let contacts: Vec<Contact> = evaluation.contacts.iter().map(|c| c.contact).collect();
         let mut light = self.quality.clone();
         light.compute_hull = false;
-        let mut report = GraspQuality::evaluate(&contacts, &self.frame, &light)?;
-        if report.force_closure && self.quality.compute_hull {
-            report = GraspQuality::evaluate(&contacts, &self.frame, &self.quality)?;
-        }
+        let report = GraspQuality::evaluate_hull_if_closure(&contacts, &self.frame, &self.quality)?;
         evaluation.quality = Some(report);
         if self.options.friction_score {
             evaluation.friction_score = Some(GraspQuality::friction_score(&contacts, &self.frame, &light)?);
@@ -661,25 +659,111 @@ impl GraspEvaluator {
         }
     }
 
+    /// Replaces hull distances in `dist` by exact ones wherever the closing step reads them:
+    /// the result gives every active closing dof exactly the step and stop decision it would
+    /// get from exact distances for all its links, without querying links whose hull bound
+    /// already proves they cannot be the limiting one.
+    ///
+    /// Every link within [`HULL_SWITCH_DISTANCE`] of the hull gets its exact distance (it may
+    /// stop its finger); the farther links are refined in rounds, per dof, only while their hull
+    /// bound on the step `(d − touch/2) / R` is below the smallest exact-based step found so
+    /// far (the exact distance is at least the hull bound, so a skipped link never lowers the
+    /// minimum, and it is farther than the touch distance).
+    fn refine_exact(
+        &self,
+        q: &[f64],
+        active: &[bool],
+        dist: &mut [f64],
+        known: &mut [bool],
+        mask: &mut [bool],
+        exact: &mut Vec<f64>,
+    ) -> Result<()> {
+        let half_touch = 0.5 * self.options.touch_distance;
+        known.iter_mut().for_each(|k| *k = false);
+        let mut first = true;
+        loop {
+            mask.iter_mut().for_each(|m| *m = false);
+            let mut any = false;
+            for (c, _) in self.data.closing.iter().zip(active).filter(|(_, &act)| act) {
+                let bound = |l: usize, r: f64| (dist[l] - half_touch) / r;
+                let mut current = f64::INFINITY;
+                for (&l, &r) in c.links.iter().zip(&c.speed_bounds) {
+                    if known[l] || (first && dist[l] <= HULL_SWITCH_DISTANCE) {
+                        current = current.min(bound(l, r));
+                    }
+                }
+                if first {
+                    for &l in &c.links {
+                        if dist[l] <= HULL_SWITCH_DISTANCE {
+                            mask[l] = true;
+                            any = true;
+                        }
+                    }
+                }
+                if current == f64::INFINITY {
+                    // Nothing exact yet for this dof: start with its most limiting link.
+                    let pick = c
+                        .links
+                        .iter()
+                        .zip(&c.speed_bounds)
+                        .filter(|(&l, _)| !known[l])
+                        .min_by(|a, b| bound(*a.0, *a.1).total_cmp(&bound(*b.0, *b.1)));
+                    if let Some((&l, _)) = pick {
+                        mask[l] = true;
+                        any = true;
+                    }
+                } else if !first {
+                    for (&l, &r) in c.links.iter().zip(&c.speed_bounds) {
+                        if !known[l] && bound(l, r) < current {
+                            mask[l] = true;
+                            any = true;
+                        }
+                    }
+                }
+            }
+            if !any {
+                return Ok(());
+            }
+            self.world.selected_link_distances_into(self.robot, q, mask, exact)?;
+            for l in 0..dist.len() {
+                if mask[l] && !known[l] {
+                    dist[l] = exact[l];
+                    known[l] = true;
+                }
+            }
+            first = false;
+        }
+    }
+
     fn close(&self, mut q: Vec<f64>) -> Result<Vec<f64>> {
         let o = &self.options;
         let robot = self.hand.robot();
         let mut active: Vec<bool> = vec![true; self.data.closing.len()];
+        let mut dist = Vec::new();
+        let mut exact = Vec::new();
+        let mut near = vec![false; robot.links().len()];
+        let mut known = vec![false; robot.links().len()];
+        let mut moving = vec![false; robot.links().len()];
         for _ in 0..o.max_close_iterations {
             if !active.iter().any(|&x| x) {
                 break;
             }
+            // Only the links of active closing dofs matter (the palm and stopped fingers are
+            // never read): query those alone.
+            moving.iter_mut().for_each(|x| *x = false);
+            for (c, _) in self.data.closing.iter().zip(&active).filter(|(_, &act)| act) {
+                for &l in &c.links {
+                    moving[l] = true;
+                }
+            }
             // Distances to the object's convex hull are lower bounds of the true ones and far
-            // cheaper for non-convex meshes; near the hull, ask for the exact distances.
-            let mut dist = self.hull_world.link_distances(self.robot, &q)?;
-            let near = self
-                .data
-                .closing
-                .iter()
-                .zip(&active)
-                .any(|(c, &act)| act && c.links.iter().any(|&l| dist[l] <= HULL_SWITCH_DISTANCE));
-            if near && !self.convex {
-                dist = self.world.link_distances(self.robot, &q)?;
+            // cheaper for non-convex meshes; near the hull, the exact distances are needed.
+            self.hull_world.selected_link_distances_into(self.robot, &q, &moving, &mut dist)?;
+            if !self.convex {
+                let any_near = moving.iter().zip(&dist).any(|(&m, &d)| m && d <= HULL_SWITCH_DISTANCE);
+                if any_near {
+                    self.refine_exact(&q, &active, &mut dist, &mut known, &mut near, &mut exact)?;
+                }
             }
             for (c, act) in self.data.closing.iter().zip(active.iter_mut()) {
                 if !*act {
@@ -750,20 +834,27 @@ pub struct PhysicsCheckOptions {
     pub directions: Vec<Vector3<f64>>,
     /// Magnitude of gravity (m/s²). Default: 9.81.
     pub gravity: f64,
-    /// Time (s) the fingers squeeze without gravity before it is switched on; the object's pose
-    /// after it is the reference for the displacement. Default: 0.2.
+    /// Time (s) the fingers squeeze without gravity before it is switched on. Default: 0.2.
     pub settle: f64,
     /// Simulated time per direction with gravity on (s). Default: 0.5.
     pub duration: f64,
-    /// The closing joints are commanded this far (rad or m) beyond the closed configuration, so
-    /// the fingers squeeze the object. Default: 0.2.
+    /// The closing joints (those with a non-zero closing velocity) are commanded this far (rad
+    /// or m) beyond the closed configuration, so the motors keep pressing the fingers against
+    /// the object (with the simulator's joint stiffness, capped at the joints' effort limits).
+    /// Default: 0.05.
     pub squeeze: f64,
-    /// The object counts as held if it moves less than this from its settled pose (m).
+    /// The object counts as held if gravity moves it less than this (m): the distance between
+    /// its pose after `settle + duration` with gravity and its pose after the same time in a
+    /// gravity-free control run (which cancels any squeeze-induced creep of the simulator).
     /// Default: 0.02.
     pub max_translation: f64,
-    /// ... and turns less than this (rad). Default: 0.35 (20°).
+    /// ... and turns it less than this (rad), measured the same way. Default: 0.35 (20°).
     pub max_rotation: f64,
-    /// Simulator settings (gravity is overridden). Default: [`PhysicsOptions::default`].
+    /// Simulator settings (gravity is overridden; the hand's link friction is replaced by the
+    /// object's friction coefficient, so the contacts have the μ the evaluator assumed).
+    /// Default: [`PhysicsOptions::default`] with `contact_frequency` 30 Hz (rapier's own
+    /// default): with stiffer contacts an object squeezed hard creeps through the grip by
+    /// centimetres per second (a solver artefact, measured with rapier 0.30).
     pub physics: PhysicsOptions,
 }
 
@@ -774,10 +865,10 @@ impl Default for PhysicsCheckOptions {
             gravity: 9.81,
             settle: 0.2,
             duration: 0.5,
-            squeeze: 0.2,
+            squeeze: 0.05,
             max_translation: 0.02,
             max_rotation: 0.35,
-            physics: PhysicsOptions::default(),
+            physics: PhysicsOptions { contact_frequency: 30.0, ..PhysicsOptions::default() },
         }
     }
 }
@@ -813,11 +904,17 @@ pub fn physics_check(
     physics_check_with::<RapierBackend>(hand, object, evaluation, options)
 }
 
-/// Checks a closed grasp on physics backend `E`: for each gravity direction, the hand is fixed
-/// at the evaluated pose in its closed configuration, its closing joints are driven a little
-/// further (`squeeze`) for `settle` seconds without gravity, then gravity is switched on for
-/// `duration` and the object (free, with its mass and friction) must not move more than
-/// `max_translation` / `max_rotation` from its settled pose.
+/// Checks a closed grasp on physics backend `E`.
+///
+/// The hand is fixed at the evaluated pose in its closed configuration; the closing joints
+/// (non-zero closing velocity; spread and other joints hold their value) are commanded
+/// `squeeze` beyond it, so the motors press the fingers against the object up to the joints'
+/// effort limits. The fingers squeeze for `settle` seconds without gravity, then gravity is
+/// switched on for `duration`. The object (free, with its mass, inertia and friction, which
+/// also replaces the links' friction) is held for a direction if its final pose differs from
+/// the final pose of a gravity-free control run of the same length by at most
+/// `max_translation` and `max_rotation`: the difference is what gravity did, while slow
+/// squeeze-induced creep of the simulator, present in both runs, cancels out.
 ///
 /// # Errors
 /// [`GraspError::InvalidParameter`] for bad options or an evaluation without a closed hand;
@@ -839,39 +936,55 @@ pub fn physics_check_with<E: PhysicsEngine>(
     ] {
         crate::planners::check_positive(name, v)?;
     }
+    for (name, v) in [("settle", options.settle), ("squeeze", options.squeeze)] {
+        if !(v.is_finite() && v >= 0.0) {
+            return Err(GraspError::InvalidParameter { name, reason: format!("must be finite and >= 0, got {v}") });
+        }
+    }
     let robot = hand.robot();
     let q = &evaluation.q;
     let fk = forward_kinematics(robot, q)?;
     let root_from_palm = fk.as_slice()[hand.palm().0] * hand.palm_frame();
     let base = evaluation.hand_pose * root_from_palm.inverse();
     let mut target = q.clone();
-    for (d, v) in hand.closing_velocity().iter().enumerate() {
-        target[d] += options.squeeze * v.signum();
+    for (d, &v) in hand.closing_velocity().iter().enumerate() {
+        // `0.0_f64.signum()` is 1: joints that do not close must hold their value.
+        if v != 0.0 {
+            target[d] += options.squeeze * v.signum();
+        }
     }
     robot.clamp_configuration(&mut target);
-    let mut out = PhysicsOutcome { translations: Vec::new(), rotations: Vec::new(), held_per_direction: Vec::new() };
+    let mut scene = Scene::new("physics check");
+    let oid = scene.add_object(object.to_scene_object(Isometry3::identity()))?;
+    let rid = scene.add_robot("hand", hand.robot_arc(), base)?;
+    scene.set_robot_configuration(rid, q)?;
+    let physics =
+        PhysicsOptions { gravity: Vector3::zeros(), link_friction: object.friction, ..options.physics.clone() };
+    let dt = physics.timestep;
+    let (settle_steps, steps) = ((options.settle / dt).ceil() as usize, (options.duration / dt).ceil() as usize);
+    // Settle the squeezing fingers without gravity, then run with `gravity` (zero: control).
+    let run = |gravity: Vector3<f64>| -> Result<Isometry3<f64>> {
+        let mut engine = E::from_scene(&scene, &physics)?;
+        engine.set_joint_position_targets(rid, &target)?;
+        engine.step_n(settle_steps, dt)?;
+        engine.set_gravity(gravity)?;
+        engine.step_n(steps, dt)?;
+        Ok(engine.object_pose(oid)?)
+    };
+    let mut gravities = Vec::with_capacity(options.directions.len());
     for dir in &options.directions {
         let n = dir.norm();
         if !(n.is_finite() && n > 0.0) {
             return Err(GraspError::InvalidParameter { name: "directions", reason: format!("bad direction {dir:?}") });
         }
-        let mut scene = Scene::new("physics check");
-        let oid = scene.add_object(object.to_scene_object(Isometry3::identity()))?;
-        let rid = scene.add_robot("hand", hand.robot_arc(), base)?;
-        scene.set_robot_configuration(rid, q)?;
-        // Settle the squeezing fingers without gravity, then turn gravity on and measure how
-        // far the object moves from its settled pose in the hand.
-        let physics = PhysicsOptions { gravity: Vector3::zeros(), ..options.physics.clone() };
-        let mut engine = E::from_scene(&scene, &physics)?;
-        engine.set_joint_position_targets(rid, &target)?;
-        let dt = physics.timestep;
-        engine.step_n((options.settle / dt).ceil() as usize, dt)?;
-        let settled = engine.object_pose(oid)?;
-        engine.set_gravity(dir * (options.gravity / n))?;
-        engine.step_n((options.duration / dt).ceil() as usize, dt)?;
-        let pose = engine.object_pose(oid)?;
-        let translation = (pose.translation.vector - settled.translation.vector).norm();
-        let rotation = pose.rotation.angle_to(&settled.rotation);
+        gravities.push(dir * (options.gravity / n));
+    }
+    let control = run(Vector3::zeros())?;
+    let mut out = PhysicsOutcome { translations: Vec::new(), rotations: Vec::new(), held_per_direction: Vec::new() };
+    for g in gravities {
+        let pose = run(g)?;
+        let translation = (pose.translation.vector - control.translation.vector).norm();
+        let rotation = pose.rotation.angle_to(&control.rotation);
         out.translations.push(translation);
         out.rotations.push(rotation);
         out.held_per_direction.push(translation <= options.max_translation && rotation <= options.max_rotation);

@@ -223,3 +223,48 @@ fn optional_metrics_friction_score_and_robust_epsilon() {
     let p = plain.evaluate(&side_grasp(&info)).unwrap();
     assert!(p.friction_score.is_none() && p.robust_epsilon.is_none());
 }
+
+#[test]
+fn armar3_power_grasp_on_a_6cm_cylinder_is_force_closure() {
+    // The thumb, swung out of the palm by its base rotation, pushes the cylinder from the
+    // wrist side against the fingers wrapped around it from the fingertip side.
+    let hand = hands::armar3_hand();
+    let info = hand_info(&hand).unwrap();
+    let radius = 0.03;
+    let mesh = Arc::new(cylinder_mesh(radius, 0.3, 48));
+    let mut ev = GraspEvaluator::from_mesh(&hand, mesh, Point3::origin(), 0.5, EvaluatorOptions::default()).unwrap();
+    let mut c = side_grasp(&info);
+    c.preshape = Preshape::Named("power".into());
+    let e = ev.evaluate(&c).unwrap();
+    assert_eq!(e.status, EvaluationStatus::Closed);
+    assert!(e.palm_contact, "{:?}", e.contacts);
+    let thumb = hand.fingers().iter().position(|f| f.name == "thumb").unwrap();
+    assert!(e.contacts.iter().any(|c| c.finger == Some(thumb)), "thumb does not touch: {:?}", e.contacts);
+    assert!(e.fingers_in_contact >= 4, "{} fingers touch", e.fingers_in_contact);
+    assert!(e.force_closure(), "{:?}", e.quality);
+    assert!(e.epsilon() > 0.0);
+}
+
+#[test]
+fn barrett_power_grasp_holds_a_salt_can_against_gravity_in_all_six_directions() {
+    // Palm on the side of the 8 cm salt can at mid-height, fingers wrapped around it.
+    let hand = hands::barrett();
+    let object = opengrasp_assets::objects::by_name("salt_can").unwrap();
+    let mut ev = GraspEvaluator::new(&hand, &object, EvaluatorOptions::default()).unwrap();
+    let info = ev.hand_info().clone();
+    let mut c = side_grasp(&info);
+    c.hand_pose.translation.vector.z = 0.07;
+    let e = ev.evaluate(&c).unwrap();
+    assert!(e.palm_contact && e.force_closure(), "{:?}", e.quality);
+    let options = PhysicsCheckOptions::default();
+    assert_eq!(options.directions.len(), 6);
+    let outcome = physics_check(&hand, &object, &e, &options).unwrap();
+    assert!(outcome.held(), "{outcome:?}");
+    // The object really is free: without friction (the object's μ is also the links'),
+    // gravity along the can's axis pulls it out of the hand.
+    let slippery = opengrasp_assets::objects::ObjectModel { friction: 0.0, ..object.clone() };
+    let along_axis = PhysicsCheckOptions { directions: vec![-Vector3::z()], ..Default::default() };
+    let dropped = physics_check(&hand, &slippery, &e, &along_axis).unwrap();
+    assert!(!dropped.held(), "{dropped:?}");
+    assert!(dropped.translations[0] > 0.05, "{dropped:?}");
+}

@@ -40,6 +40,7 @@
 //! # }
 //! ```
 
+mod climbing;
 mod shapes;
 mod world;
 
@@ -48,6 +49,7 @@ use nalgebra::{Point3, Unit, Vector3};
 use crate::model::LinkId;
 use crate::scene::{BodyId, ObjectId, RobotId};
 
+pub use climbing::ClimbingHull;
 pub use shapes::{geometry_to_parry, shapes_to_parry, MeshRepresentation};
 pub use world::CollisionWorld;
 

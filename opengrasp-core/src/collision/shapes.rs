@@ -5,6 +5,7 @@ use std::f64::consts::FRAC_PI_2;
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 use parry3d_f64::shape::{SharedShape, TriMeshFlags};
 
+use super::climbing::ClimbingHull;
 use crate::error::{CoreError, Result};
 use crate::model::{Geometry, Shape, TriangleMesh};
 
@@ -22,6 +23,14 @@ pub enum MeshRepresentation {
     /// of its hull's — otherwise the exact `TriMesh`. This is the default.
     #[default]
     Auto,
+    /// As [`ConvexHull`](Self::ConvexHull), wrapped in a [`ClimbingHull`] when the hull has 64
+    /// vertices or more: the same polyhedron and the same support points, found by hill
+    /// climbing on the vertex graph instead of a linear scan (much faster GJK on hulls of
+    /// hundreds of vertices). A parry custom shape: fine for the queries of
+    /// [`super::CollisionWorld`], not meant for physics engines.
+    ClimbingHull,
+    /// As [`Auto`](Self::Auto), with [`ClimbingHull`](Self::ClimbingHull) for convex meshes.
+    AutoClimbing,
 }
 
 /// Relative volume difference under which a closed mesh counts as convex for
@@ -70,17 +79,30 @@ fn hull(mesh: &TriangleMesh) -> Result<SharedShape> {
         .ok_or_else(|| CoreError::DegenerateMesh { reason: "the mesh's convex hull is flat".into() })
 }
 
+/// Hulls with fewer vertices than this keep parry's linear scan (cheaper than seeding a climb).
+const CLIMBING_MIN_VERTICES: usize = 64;
+
+fn climbing(shape: SharedShape) -> SharedShape {
+    match shape.as_convex_polyhedron() {
+        Some(poly) if poly.points().len() >= CLIMBING_MIN_VERTICES => {
+            SharedShape(std::sync::Arc::new(ClimbingHull::new(poly.clone())))
+        }
+        _ => shape,
+    }
+}
+
 fn mesh_to_parry(mesh: &TriangleMesh, meshes: MeshRepresentation) -> Result<SharedShape> {
     match meshes {
         MeshRepresentation::TriMesh => trimesh(mesh),
         MeshRepresentation::ConvexHull => hull(mesh),
-        MeshRepresentation::Auto => {
+        MeshRepresentation::ClimbingHull => hull(mesh).map(climbing),
+        MeshRepresentation::Auto | MeshRepresentation::AutoClimbing => {
             if mesh.is_watertight() {
                 if let Ok(h) = hull(mesh) {
                     let hull_volume = h.mass_properties(1.0).mass();
                     let volume = mesh.signed_volume();
                     if hull_volume > 0.0 && (hull_volume - volume).abs() <= CONVEX_VOLUME_TOLERANCE * hull_volume {
-                        return Ok(h);
+                        return Ok(if meshes == MeshRepresentation::AutoClimbing { climbing(h) } else { h });
                     }
                 }
             }

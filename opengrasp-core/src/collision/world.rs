@@ -975,6 +975,40 @@ impl CollisionWorld {
         Ok(())
     }
 
+    /// [`link_distances_into`](Self::link_distances_into) restricted to the links with
+    /// `selected[link] == true`: the others (and links beyond `selected`'s length) get `+inf`
+    /// without any query. For callers that already hold cheaper lower bounds for most links
+    /// and need exact distances for a few (e.g. a grasp evaluator refining the links near an
+    /// object's convex hull).
+    ///
+    /// # Errors
+    /// As [`in_collision`](Self::in_collision).
+    pub fn selected_link_distances_into(
+        &self,
+        robot: RobotId,
+        q: &[f64],
+        selected: &[bool],
+        out: &mut Vec<f64>,
+    ) -> Result<()> {
+        self.validate(robot, q)?;
+        let rid = robot.0;
+        out.clear();
+        out.resize(self.robots[rid].n_links(), f64::INFINITY);
+        with_scratch(|s| {
+            self.place(rid, q, s);
+            for item in &s.items {
+                let l = item.link.0;
+                if !selected.get(l).copied().unwrap_or(false) {
+                    continue;
+                }
+                if let Some(n) = self.item_min_distance(rid, item, out[l]) {
+                    out[l] = out[l].min(n.distance);
+                }
+            }
+        });
+        Ok(())
+    }
+
     // ----------------------------------------------------------------------------------------
     // Contacts
     // ----------------------------------------------------------------------------------------
@@ -1093,3 +1127,38 @@ const _: fn() = || {
     fn is_send_sync<T: Send + Sync>() {}
     is_send_sync::<CollisionWorld>();
 };
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{samples, Geometry, Shape};
+    use crate::scene::StaticBody;
+
+    #[test]
+    fn selected_link_distances_match_the_full_query() {
+        let mut scene = Scene::new("selected");
+        let arm = scene.add_robot("arm", Arc::new(samples::seven_dof_arm().unwrap()), Isometry3::identity()).unwrap();
+        let wall = Shape::at_origin(Geometry::cuboid(0.05, 1.0, 1.0));
+        scene.add_body(StaticBody::new("wall", Isometry3::translation(0.6, 0.0, 0.5), vec![wall])).unwrap();
+        let world = CollisionWorld::new(&scene).unwrap();
+        let q = [0.3, 0.8, -0.2, 0.5, 0.1, 0.4, 0.0];
+        let full = world.link_distances(arm, &q).unwrap();
+        let selected: Vec<bool> = (0..full.len()).map(|l| l % 2 == 1).collect();
+        let mut out = Vec::new();
+        world.selected_link_distances_into(arm, &q, &selected, &mut out).unwrap();
+        assert_eq!(out.len(), full.len());
+        for (l, (&a, &b)) in full.iter().zip(&out).enumerate() {
+            if selected[l] {
+                assert_eq!(a, b, "link {l}");
+            } else {
+                assert_eq!(b, f64::INFINITY, "link {l}");
+            }
+        }
+        assert!(full.iter().any(|d| d.is_finite()));
+        // A short mask leaves the remaining links unqueried; bad configurations are errors.
+        world.selected_link_distances_into(arm, &q, &[true], &mut out).unwrap();
+        assert_eq!(out[0], full[0]);
+        assert!(out[1..].iter().all(|d| *d == f64::INFINITY));
+        assert!(world.selected_link_distances_into(arm, &q[..3], &selected, &mut out).is_err());
+    }
+}

@@ -200,6 +200,28 @@ impl GraspQuality {
     /// # Errors
     /// See [`GraspQuality::evaluate`].
     pub fn evaluate_wrench_space(ws: &GraspWrenchSpace, options: &QualityOptions) -> Result<QualityReport> {
+        Self::evaluate_impl(ws, options, false)
+    }
+
+    /// As [`GraspQuality::evaluate`], but the 6-D hull (when `options.compute_hull`) is built
+    /// only for force-closure grasps: the others keep epsilon, volume and hull facets at 0,
+    /// exactly as with `compute_hull = false`. The force-closure LP (and the min-norm QP when
+    /// needed) is solved once. This is what a grasp evaluator wants: epsilon is 0 without force
+    /// closure, and the hull is the expensive part.
+    ///
+    /// # Errors
+    /// See [`GraspQuality::evaluate`].
+    pub fn evaluate_hull_if_closure(
+        contacts: &[Contact],
+        frame: &ObjectFrame,
+        options: &QualityOptions,
+    ) -> Result<QualityReport> {
+        options.validate()?;
+        let ws = GraspWrenchSpace::new(contacts, frame, &options.contact)?;
+        Self::evaluate_impl(&ws, options, true)
+    }
+
+    fn evaluate_impl(ws: &GraspWrenchSpace, options: &QualityOptions, hull_if_closure: bool) -> Result<QualityReport> {
         options.validate()?;
         let wrenches = ws.wrenches();
         let n = wrenches.len();
@@ -239,7 +261,7 @@ impl GraspQuality {
         if report.degenerate {
             return Ok(report);
         }
-        if options.compute_hull {
+        if options.compute_hull && (report.force_closure || !hull_if_closure) {
             let coords: Vec<f64> = wrenches.iter().flat_map(|w| w.iter().copied()).collect();
             match ConvexHull::from_flat(6, &coords, &options.hull) {
                 Ok(hull) => {
