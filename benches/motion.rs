@@ -1,0 +1,54 @@
+//! Planning time on the standard motion-planning scene (scene 1): RRT-Connect on the
+//! ARMAR-III-like humanoid in the kitchen (hip yaw + right arm) and on the 7-DoF stand-in, plus
+//! the cost of one validity check.
+//!
+//! ```sh
+//! cargo bench --bench motion -- --warm-up-time 1 --measurement-time 3
+//! ```
+
+// `criterion_group!` generates an undocumented public function.
+#![allow(missing_docs)]
+
+use std::time::Duration;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use opengrasp::motion::benchmark::BenchmarkScene;
+use opengrasp::motion::planners::RrtConnect;
+use opengrasp::motion::scenes::{armar_standard_scene, standard_scene, CheckerKind};
+use opengrasp::motion::{MotionPlanner, PlanningProblem};
+
+fn bench_scene(c: &mut Criterion, id: &str, scene: BenchmarkScene) {
+    let instance = (scene.generate)(0).expect("scene instance");
+    let mut planner = RrtConnect::default();
+    // Cycle through 100 seeds so the measurement averages over the planner's randomness.
+    let mut seed = 0u64;
+    c.bench_function(&format!("{id}/rrt_connect_plan"), |b| {
+        b.iter(|| {
+            seed = (seed + 1) % 100;
+            let problem = PlanningProblem {
+                robot: &instance.robot,
+                group: &instance.group,
+                q_full: &instance.q_full,
+                start: &instance.start,
+                goal: &instance.goal,
+                checker: &*instance.checker,
+                time_limit: Duration::from_secs(10),
+                seed,
+                step: 0.02,
+            };
+            planner.plan(&problem).expect("solved")
+        })
+    });
+    let q = instance.start.clone();
+    c.bench_function(&format!("{id}/validity_check"), |b| {
+        b.iter(|| instance.checker.is_valid(std::hint::black_box(&q)))
+    });
+}
+
+fn motion(c: &mut Criterion) {
+    bench_scene(c, "armar_kitchen", armar_standard_scene());
+    bench_scene(c, "seven_dof_cupboard", standard_scene(CheckerKind::Exact));
+}
+
+criterion_group!(benches, motion);
+criterion_main!(benches);

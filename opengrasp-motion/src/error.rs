@@ -1,0 +1,88 @@
+//! The error type of `opengrasp-motion`.
+
+/// Everything that can go wrong while setting up, planning, validating or benchmarking.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum MotionError {
+    /// An error from `opengrasp-core` (model, kinematics, IK).
+    #[error(transparent)]
+    Core(#[from] opengrasp_core::CoreError),
+    /// A configuration has the wrong number of values for the joint group.
+    #[error("configuration has {actual} values, expected {expected}")]
+    DimensionMismatch {
+        /// Expected length (the group's dimension).
+        expected: usize,
+        /// Given length.
+        actual: usize,
+    },
+    /// A configuration contains NaN or infinite values.
+    #[error("non-finite value in {what}")]
+    NonFinite {
+        /// Which input.
+        what: &'static str,
+    },
+    /// A configuration lies outside the joint limits.
+    #[error("{what} is outside the joint limits (joint {index}: {value} not in [{lower}, {upper}])")]
+    OutOfLimits {
+        /// Which input.
+        what: &'static str,
+        /// Index in the group.
+        index: usize,
+        /// The offending value.
+        value: f64,
+        /// Lower limit.
+        lower: f64,
+        /// Upper limit.
+        upper: f64,
+    },
+    /// The start or goal configuration is in collision.
+    #[error("{what} configuration is in collision")]
+    InvalidState {
+        /// "start" or "goal".
+        what: &'static str,
+    },
+    /// An option or parameter is out of its valid range.
+    #[error("invalid parameter `{name}`: {reason}")]
+    InvalidParameter {
+        /// The parameter.
+        name: &'static str,
+        /// Why it is invalid.
+        reason: String,
+    },
+    /// The planner did not find a path within its time limit.
+    #[error("no path found within {seconds} s")]
+    Timeout {
+        /// The time limit (s).
+        seconds: f64,
+    },
+    /// The planner does not support this kind of goal.
+    #[error("planner `{planner}` does not support {goal} goals")]
+    UnsupportedGoal {
+        /// The planner's name.
+        planner: String,
+        /// The kind of goal.
+        goal: &'static str,
+    },
+    /// A user planner's own error.
+    #[error("planner error: {0}")]
+    Other(Box<dyn std::error::Error + Send + Sync>),
+}
+
+impl MotionError {
+    /// True for errors caused by bad input (dimensions, limits, invalid start/goal) rather than
+    /// by the planner.
+    pub fn is_invalid_input(&self) -> bool {
+        matches!(
+            self,
+            MotionError::DimensionMismatch { .. }
+                | MotionError::NonFinite { .. }
+                | MotionError::OutOfLimits { .. }
+                | MotionError::InvalidState { .. }
+                | MotionError::InvalidParameter { .. }
+                | MotionError::UnsupportedGoal { .. }
+        )
+    }
+}
+
+/// Result alias for `opengrasp-motion`.
+pub type Result<T, E = MotionError> = std::result::Result<T, E>;

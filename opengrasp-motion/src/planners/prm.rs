@@ -1,0 +1,254 @@
+//! PRM (Kavraki, Švestka, Latombe & Overmars 1996) with a roadmap reused across queries.
+
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+use super::Nodes;
+use crate::error::{MotionError, Result};
+use crate::problem::{Deadline, Goal, MotionPlanner, PlanningProblem, SetupContext, Solution};
+use crate::validate::segment_valid_discrete;
+use crate::validity::StateValidityChecker;
+
+/// Options of [`Prm`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PrmOptions {
+    /// Valid samples in the roadmap built by `setup` (default 600).
+    pub nodes: usize,
+    /// Neighbours each sample (and each query configuration) tries to connect to (default 10).
+    pub k: usize,
+    /// Samples added per growth round when a query is not connected (default 100).
+    pub growth: usize,
+    /// For pose goals: valid IK solutions to connect to the roadmap (default 3).
+    pub ik_goals: usize,
+    /// For pose goals: maximum IK attempts (default 200).
+    pub ik_attempts: usize,
+}
+
+impl Default for PrmOptions {
+    fn default() -> Self {
+        Self { nodes: 600, k: 10, growth: 100, ik_goals: 3, ik_attempts: 200 }
+    }
+}
+
+/// Probabilistic roadmap: `setup` samples [`PrmOptions::nodes`] valid configurations and
+/// connects each to its `k` nearest neighbours by valid straight segments; each query connects
+/// start and goals to the roadmap and runs Dijkstra. If they are not connected, the roadmap
+/// grows by [`PrmOptions::growth`] samples per round until the time limit. The roadmap
+/// (including growth) is kept for later queries in the same scene; calling `setup` again
+/// rebuilds it.
+#[derive(Clone, Debug, Default)]
+pub struct Prm {
+    /// Options.
+    pub options: PrmOptions,
+    nodes: Nodes,
+    edges: Vec<Vec<(usize, f64)>>,
+    limits: Vec<(f64, f64)>,
+}
+
+impl Prm {
+    /// A PRM planner with the given options (the roadmap is built by `setup`).
+    pub fn new(options: PrmOptions) -> Self {
+        Self { options, ..Self::default() }
+    }
+
+    /// Number of roadmap nodes.
+    pub fn roadmap_nodes(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// Number of (undirected) roadmap edges.
+    pub fn roadmap_edges(&self) -> usize {
+        self.edges.iter().map(Vec::len).sum::<usize>() / 2
+    }
+
+    fn sample_valid(&self, checker: &dyn StateValidityChecker, rng: &mut ChaCha8Rng, out: &mut Vec<f64>) -> bool {
+        use rand::Rng;
+        for _ in 0..100 {
+            out.clear();
+            out.extend(self.limits.iter().map(|&(lo, hi)| lo + (hi - lo) * rng.random::<f64>()));
+            if checker.is_valid(out) {
+                return true;
+            }
+        }
+        false
+    }
+
+    fn add_node(&mut self, checker: &dyn StateValidityChecker, q: &[f64], step: f64) {
+        let near = self.nodes.k_nearest(q, self.options.k, None);
+        let i = self.nodes.push(q);
+        self.edges.push(Vec::new());
+        for (j, d) in near {
+            if segment_valid_discrete(checker, self.nodes.get(j), q, step) {
+                self.edges[i].push((j, d));
+                self.edges[j].push((i, d));
+            }
+        }
+    }
+
+    fn grow(
+        &mut self,
+        checker: &dyn StateValidityChecker,
+        rng: &mut ChaCha8Rng,
+        count: usize,
+        step: f64,
+        deadline: Option<&Deadline>,
+    ) {
+        let mut q = Vec::new();
+        for _ in 0..count {
+            if deadline.is_some_and(Deadline::expired) {
+                return;
+            }
+            if self.sample_valid(checker, rng, &mut q) {
+                let q2 = q.clone();
+                self.add_node(checker, &q2, step);
+            }
+        }
+    }
+
+    /// Valid connections `(node, cost)` from configuration `q` to its k nearest nodes.
+    fn connections(&self, checker: &dyn StateValidityChecker, q: &[f64], step: f64) -> Vec<(usize, f64)> {
+        self.nodes
+            .k_nearest(q, self.options.k, None)
+            .into_iter()
+            .filter(|&(j, _)| segment_valid_discrete(checker, q, self.nodes.get(j), step))
+            .collect()
+    }
+
+    /// Dijkstra from the start connections; returns (cost, goal index, node chain).
+    fn search(&self, start: &[(usize, f64)], goals: &[Vec<(usize, f64)>]) -> Option<(usize, Vec<usize>)> {
+        let n = self.nodes.len();
+        let mut dist = vec![f64::INFINITY; n];
+        let mut prev = vec![usize::MAX; n];
+        let mut heap = BinaryHeap::new();
+        for &(j, c) in start {
+            if c < dist[j] {
+                dist[j] = c;
+                heap.push(State(c, j));
+            }
+        }
+        while let Some(State(c, i)) = heap.pop() {
+            if c > dist[i] {
+                continue;
+            }
+            for &(j, w) in &self.edges[i] {
+                let nc = c + w;
+                if nc < dist[j] {
+                    dist[j] = nc;
+                    prev[j] = i;
+                    heap.push(State(nc, j));
+                }
+            }
+        }
+        let mut best: Option<(f64, usize, usize)> = None;
+        for (g, conns) in goals.iter().enumerate() {
+            for &(j, c) in conns {
+                let total = dist[j] + c;
+                if total.is_finite() && best.is_none_or(|b| total < b.0) {
+                    best = Some((total, g, j));
+                }
+            }
+        }
+        let (_, g, mut j) = best?;
+        let mut chain = vec![j];
+        while prev[j] != usize::MAX {
+            j = prev[j];
+            chain.push(j);
+        }
+        chain.reverse();
+        Some((g, chain))
+    }
+}
+
+#[derive(PartialEq)]
+struct State(f64, usize);
+impl Eq for State {}
+impl PartialOrd for State {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for State {
+    fn cmp(&self, other: &Self) -> Ordering {
+        other.0.total_cmp(&self.0).then(other.1.cmp(&self.1))
+    }
+}
+
+impl MotionPlanner for Prm {
+    fn name(&self) -> &str {
+        "PRM"
+    }
+
+    fn setup(&mut self, context: &SetupContext<'_>) -> Result<()> {
+        if self.options.k == 0 {
+            return Err(MotionError::InvalidParameter { name: "k", reason: "must be at least 1".into() });
+        }
+        self.limits = context.group.limits(context.robot);
+        self.nodes = Nodes::new(context.group.len());
+        self.edges.clear();
+        let mut rng = ChaCha8Rng::seed_from_u64(context.seed);
+        self.grow(context.checker, &mut rng, self.options.nodes, context.step, None);
+        Ok(())
+    }
+
+    fn plan(&mut self, problem: &PlanningProblem<'_>) -> Result<Solution> {
+        problem.validate()?;
+        if self.options.k == 0 {
+            return Err(MotionError::InvalidParameter { name: "k", reason: "must be at least 1".into() });
+        }
+        let deadline = Deadline::after(problem.time_limit);
+        let timeout = || MotionError::Timeout { seconds: problem.time_limit.as_secs_f64() };
+        let mut rng = ChaCha8Rng::seed_from_u64(problem.seed);
+        let checker = problem.checker;
+        let step = problem.step;
+        if self.nodes.dim != problem.group.len() || self.limits.len() != problem.group.len() {
+            // Not set up for this group: start an empty roadmap; growth fills it.
+            self.limits = problem.limits();
+            self.nodes = Nodes::new(problem.group.len());
+            self.edges.clear();
+        }
+        let mut iterations = 0;
+        let goals: Vec<Vec<f64>> = match problem.goal {
+            Goal::Configuration(q) => vec![q.clone()],
+            Goal::ConfigurationSet(set) => set.iter().filter(|q| checker.is_valid(q)).cloned().collect(),
+            Goal::Pose(_) => {
+                let mut found = Vec::new();
+                for _ in 0..self.options.ik_attempts {
+                    if found.len() >= self.options.ik_goals || deadline.expired() {
+                        break;
+                    }
+                    iterations += 1;
+                    if let Some(g) = problem.sample_ik_goal(&mut rng, &self.limits) {
+                        found.push(g);
+                    }
+                }
+                found
+            }
+        };
+        if goals.is_empty() {
+            return Err(timeout());
+        }
+        for g in &goals {
+            if segment_valid_discrete(checker, problem.start, g, step) {
+                return Ok(Solution { path: vec![problem.start.to_vec(), g.clone()], iterations });
+            }
+        }
+        loop {
+            let start = self.connections(checker, problem.start, step);
+            let goal_conns: Vec<Vec<(usize, f64)>> = goals.iter().map(|g| self.connections(checker, g, step)).collect();
+            if let Some((g, chain)) = self.search(&start, &goal_conns) {
+                let mut path = vec![problem.start.to_vec()];
+                path.extend(chain.iter().map(|&i| self.nodes.get(i).to_vec()));
+                path.push(goals[g].clone());
+                return Ok(Solution { path, iterations });
+            }
+            if deadline.expired() {
+                return Err(timeout());
+            }
+            iterations += self.options.growth as u64;
+            self.grow(checker, &mut rng, self.options.growth.max(1), step, Some(&deadline));
+        }
+    }
+}

@@ -1,0 +1,297 @@
+//! RRT-Connect (Kuffner & LaValle 2000) and IK-RRT (Vahrenkamp et al. 2009).
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use super::Nodes;
+use crate::error::{MotionError, Result};
+use crate::problem::{Deadline, Goal, MotionPlanner, PlanningProblem, Solution};
+use crate::validate::{distance, segment_valid_discrete};
+
+/// Options of [`RrtConnect`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RrtConnectOptions {
+    /// Maximum length of one tree extension in C-space (default 0.5).
+    pub range: f64,
+    /// For pose goals: valid IK solutions collected as goal-tree roots before growing the
+    /// trees ("IK, then plan"; default 3).
+    pub ik_goals: usize,
+    /// For pose goals: maximum IK attempts to collect them (default 200).
+    pub ik_attempts: usize,
+}
+
+impl Default for RrtConnectOptions {
+    fn default() -> Self {
+        Self { range: 0.5, ik_goals: 3, ik_attempts: 200 }
+    }
+}
+
+/// RRT-Connect: two trees, rooted at the start and at the goal configuration(s), each
+/// extension of one tree followed by a greedy connection of the other (Kuffner & LaValle 2000).
+///
+/// Pose goals are solved "IK first": up to [`RrtConnectOptions::ik_goals`] valid IK solutions
+/// become roots of the goal tree.
+#[derive(Clone, Debug, Default)]
+pub struct RrtConnect {
+    /// Options.
+    pub options: RrtConnectOptions,
+}
+
+impl RrtConnect {
+    /// An RRT-Connect planner with the given options.
+    pub fn new(options: RrtConnectOptions) -> Self {
+        Self { options }
+    }
+}
+
+impl MotionPlanner for RrtConnect {
+    fn name(&self) -> &str {
+        "RRT-Connect"
+    }
+
+    fn plan(&mut self, problem: &PlanningProblem<'_>) -> Result<Solution> {
+        problem.validate()?;
+        let deadline = Deadline::after(problem.time_limit);
+        let mut rng = ChaCha8Rng::seed_from_u64(problem.seed);
+        let limits = problem.limits();
+        let mut roots = goal_roots(problem);
+        let mut iterations = 0;
+        if let Goal::Pose(_) = problem.goal {
+            for _ in 0..self.options.ik_attempts {
+                if roots.len() >= self.options.ik_goals || deadline.expired() {
+                    break;
+                }
+                iterations += 1;
+                if let Some(g) = problem.sample_ik_goal(&mut rng, &limits) {
+                    roots.push(g);
+                }
+            }
+            if roots.is_empty() {
+                return Err(MotionError::Timeout { seconds: problem.time_limit.as_secs_f64() });
+            }
+        }
+        bidirectional(problem, &mut rng, &deadline, self.options.range, roots, 0.0, iterations)
+    }
+}
+
+/// Options of [`IkRrt`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IkRrtOptions {
+    /// Maximum length of one tree extension in C-space (default 0.5).
+    pub range: f64,
+    /// Probability per iteration of attempting an IK solution for the goal tree (default 0.1).
+    pub ik_probability: f64,
+    /// Maximum number of goal-tree roots (IK solutions; default 20).
+    pub max_goal_roots: usize,
+}
+
+impl Default for IkRrtOptions {
+    fn default() -> Self {
+        Self { range: 0.5, ik_probability: 0.1, max_goal_roots: 20 }
+    }
+}
+
+/// IK-RRT (Vahrenkamp et al. 2009): a bidirectional RRT whose goal tree grows from IK
+/// solutions of a pose goal sampled *during* planning (with probability
+/// [`IkRrtOptions::ik_probability`] per iteration), so no IK solution has to be chosen
+/// beforehand. For configuration goals it behaves like [`RrtConnect`].
+#[derive(Clone, Debug, Default)]
+pub struct IkRrt {
+    /// Options.
+    pub options: IkRrtOptions,
+}
+
+impl IkRrt {
+    /// An IK-RRT planner with the given options.
+    pub fn new(options: IkRrtOptions) -> Self {
+        Self { options }
+    }
+}
+
+impl MotionPlanner for IkRrt {
+    fn name(&self) -> &str {
+        "IK-RRT"
+    }
+
+    fn plan(&mut self, problem: &PlanningProblem<'_>) -> Result<Solution> {
+        problem.validate()?;
+        if !(0.0..=1.0).contains(&self.options.ik_probability) {
+            return Err(MotionError::InvalidParameter {
+                name: "ik_probability",
+                reason: format!("{} not in [0, 1]", self.options.ik_probability),
+            });
+        }
+        let deadline = Deadline::after(problem.time_limit);
+        let mut rng = ChaCha8Rng::seed_from_u64(problem.seed);
+        let roots = goal_roots(problem);
+        let p = if matches!(problem.goal, Goal::Pose(_)) { self.options.ik_probability } else { 0.0 };
+        let mut planner = Bidirectional::new(problem, self.options.range, roots);
+        planner.max_roots = self.options.max_goal_roots;
+        planner.run(&mut rng, &deadline, p, 0)
+    }
+}
+
+fn goal_roots(problem: &PlanningProblem<'_>) -> Vec<Vec<f64>> {
+    match problem.goal {
+        Goal::Configuration(q) => vec![q.clone()],
+        Goal::ConfigurationSet(set) => set.iter().filter(|q| problem.checker.is_valid(q)).cloned().collect(),
+        Goal::Pose(_) => Vec::new(),
+    }
+}
+
+fn bidirectional(
+    problem: &PlanningProblem<'_>,
+    rng: &mut ChaCha8Rng,
+    deadline: &Deadline,
+    range: f64,
+    roots: Vec<Vec<f64>>,
+    ik_probability: f64,
+    iterations: u64,
+) -> Result<Solution> {
+    Bidirectional::new(problem, range, roots).run(rng, deadline, ik_probability, iterations)
+}
+
+struct Tree {
+    nodes: Nodes,
+    parent: Vec<usize>,
+}
+
+impl Tree {
+    fn new(dim: usize) -> Self {
+        Self { nodes: Nodes::new(dim), parent: Vec::new() }
+    }
+    fn add(&mut self, q: &[f64], parent: usize) -> usize {
+        self.parent.push(parent);
+        self.nodes.push(q)
+    }
+    /// Configurations from node `i` back to its root.
+    fn branch(&self, mut i: usize) -> Vec<Vec<f64>> {
+        let mut out = vec![self.nodes.get(i).to_vec()];
+        while self.parent[i] != usize::MAX {
+            i = self.parent[i];
+            out.push(self.nodes.get(i).to_vec());
+        }
+        out
+    }
+}
+
+enum Extend {
+    Trapped,
+    Advanced(usize),
+    Reached(usize),
+}
+
+struct Bidirectional<'p, 'a> {
+    problem: &'p PlanningProblem<'a>,
+    range: f64,
+    trees: [Tree; 2],
+    max_roots: usize,
+    scratch: Vec<f64>,
+}
+
+impl<'p, 'a> Bidirectional<'p, 'a> {
+    fn new(problem: &'p PlanningProblem<'a>, range: f64, roots: Vec<Vec<f64>>) -> Self {
+        let dim = problem.group.len();
+        let mut start = Tree::new(dim);
+        start.add(problem.start, usize::MAX);
+        let mut goal = Tree::new(dim);
+        for r in &roots {
+            goal.add(r, usize::MAX);
+        }
+        Self { problem, range, trees: [start, goal], max_roots: usize::MAX, scratch: Vec::new() }
+    }
+
+    fn extend(&mut self, t: usize, target: &[f64]) -> Extend {
+        let tree = &mut self.trees[t];
+        let Some(near) = tree.nodes.nearest(target) else { return Extend::Trapped };
+        let from = tree.nodes.get(near).to_vec();
+        let d = distance(&from, target);
+        let reached = d <= self.range;
+        self.scratch.clear();
+        if reached {
+            self.scratch.extend_from_slice(target);
+        } else {
+            let s = self.range / d;
+            self.scratch.extend(from.iter().zip(target).map(|(a, b)| a + s * (b - a)));
+        }
+        if !segment_valid_discrete(self.problem.checker, &from, &self.scratch, self.problem.step) {
+            return Extend::Trapped;
+        }
+        let new = tree.add(&self.scratch, near);
+        if reached {
+            Extend::Reached(new)
+        } else {
+            Extend::Advanced(new)
+        }
+    }
+
+    fn connect(&mut self, t: usize, target: &[f64]) -> Extend {
+        loop {
+            match self.extend(t, target) {
+                Extend::Advanced(_) => continue,
+                other => return other,
+            }
+        }
+    }
+
+    fn run(
+        mut self,
+        rng: &mut ChaCha8Rng,
+        deadline: &Deadline,
+        ik_probability: f64,
+        mut iterations: u64,
+    ) -> Result<Solution> {
+        let problem = self.problem;
+        let limits = problem.limits();
+        let mut sample = Vec::with_capacity(limits.len());
+        let mut a = 0;
+        loop {
+            if deadline.expired() {
+                return Err(MotionError::Timeout { seconds: problem.time_limit.as_secs_f64() });
+            }
+            iterations += 1;
+            let roots = self.trees[1].parent.iter().filter(|&&p| p == usize::MAX).count();
+            let want_ik = ik_probability > 0.0
+                && roots < self.max_roots
+                && (self.trees[1].nodes.len() == 0 || rng.random::<f64>() < ik_probability);
+            if want_ik {
+                if let Some(g) = problem.sample_ik_goal(rng, &limits) {
+                    let root = self.trees[1].add(&g, usize::MAX);
+                    // Try to reach the new root from the start tree right away.
+                    if let Extend::Reached(s) = self.connect(0, &g) {
+                        return Ok(self.solution(s, root, iterations));
+                    }
+                }
+                if self.trees[1].nodes.len() == 0 {
+                    continue;
+                }
+            }
+            problem.sample_uniform(rng, &limits, &mut sample);
+            let b = 1 - a;
+            let new = match self.extend(a, &sample) {
+                Extend::Trapped => None,
+                Extend::Advanced(n) | Extend::Reached(n) => Some(n),
+            };
+            if let Some(n) = new {
+                let q = self.trees[a].nodes.get(n).to_vec();
+                if let Extend::Reached(m) = self.connect(b, &q) {
+                    let (s, g) = if a == 0 { (n, m) } else { (m, n) };
+                    return Ok(self.solution(s, g, iterations));
+                }
+            }
+            a = b;
+        }
+    }
+
+    fn solution(&self, start_node: usize, goal_node: usize, iterations: u64) -> Solution {
+        let mut path = self.trees[0].branch(start_node);
+        path.reverse();
+        let mut tail = self.trees[1].branch(goal_node);
+        // The two meeting nodes hold the same configuration.
+        if path.last().is_some_and(|l| tail.first().is_some_and(|f| distance(l, f) < 1e-12)) {
+            tail.remove(0);
+        }
+        path.extend(tail);
+        Solution { path, iterations }
+    }
+}
