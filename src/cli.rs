@@ -1,0 +1,371 @@
+//! The `opengrasp` command line (clap derive), as a library module so it can be tested and
+//! embedded: [`Cli`] parses, [`execute`] runs.
+//!
+//! ```text
+//! opengrasp list [categories|scenes|planners|hands|objects]
+//! opengrasp run grasp|motion|all [--size tiny|default|paper] [--planner NAME]... [--runs N]
+//!                                [--seed S] [--max-candidates N|all] [--out results.json] [--jobs J]
+//!                                [--quiet]
+//! opengrasp report results.json [--format table|markdown|csv] [--plots DIR] [--ompl DIR]
+//! opengrasp submit results.json --name NAME [--team TEAM] [--db highscore.sqlite]
+//! opengrasp highscore [BENCHMARK] [--db highscore.sqlite]
+//! opengrasp serve [--db highscore.sqlite] [--addr 127.0.0.1:8080]
+//! ```
+
+use std::collections::HashMap;
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::sync::Mutex;
+
+use clap::{Parser, Subcommand, ValueEnum};
+use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use crate::report::{self, Format};
+use crate::results::{Category, Error, Result, ResultsFile};
+use crate::suite::{Progress, Suite, SuiteSize};
+
+/// `opengrasp`: run the OpenGRASP grasp and motion planning benchmarks, report and rank results.
+#[derive(Debug, Parser)]
+#[command(name = "opengrasp", version, about, long_about = None)]
+pub struct Cli {
+    /// The command.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// What to list.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ListWhat {
+    /// Everything below.
+    All,
+    /// Benchmark categories.
+    Categories,
+    /// Motion benchmark scenes.
+    Scenes,
+    /// Reference planners.
+    Planners,
+    /// Grasp benchmark hands.
+    Hands,
+    /// Grasp benchmark objects.
+    Objects,
+}
+
+/// Which benchmark to run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Which {
+    /// The grasp benchmark (Tables I and II).
+    Grasp,
+    /// The motion benchmark (Table III).
+    Motion,
+    /// Both.
+    All,
+}
+
+/// Suite size on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum SizeArg {
+    /// Seconds: one object and hand, a planar arm.
+    Tiny,
+    /// A few minutes on two cores (release build).
+    Default,
+    /// The paper's sizes (every grasp candidate, 100 motion runs).
+    Paper,
+}
+
+impl From<SizeArg> for SuiteSize {
+    fn from(s: SizeArg) -> Self {
+        match s {
+            SizeArg::Tiny => SuiteSize::Tiny,
+            SizeArg::Default => SuiteSize::Default,
+            SizeArg::Paper => SuiteSize::Paper,
+        }
+    }
+}
+
+/// Report format on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum FormatArg {
+    /// Aligned text.
+    Table,
+    /// Markdown tables.
+    Markdown,
+    /// CSV.
+    Csv,
+}
+
+impl From<FormatArg> for Format {
+    fn from(f: FormatArg) -> Self {
+        match f {
+            FormatArg::Table => Format::Table,
+            FormatArg::Markdown => Format::Markdown,
+            FormatArg::Csv => Format::Csv,
+        }
+    }
+}
+
+/// Options of `opengrasp run`.
+#[derive(Clone, Debug, PartialEq, clap::Args)]
+pub struct RunArgs {
+    /// Benchmark to run.
+    pub which: Which,
+    /// Suite size: `default` (grasp: 8 objects × 2 hands, ≤128 candidates per cell; motion:
+    /// 4 scenes, 20 runs) finishes in a few minutes on two cores in release mode.
+    #[arg(long, value_enum, default_value = "default")]
+    pub size: SizeArg,
+    /// Run only these planners (repeatable; names as in `opengrasp list planners`).
+    #[arg(long = "planner")]
+    pub planners: Vec<String>,
+    /// Motion runs per planner per scene (default: the size's).
+    #[arg(long)]
+    pub runs: Option<usize>,
+    /// Base seed of both benchmarks.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Grasp candidates evaluated per cell at most, or `all` (default: the size's).
+    #[arg(long)]
+    pub max_candidates: Option<String>,
+    /// Results file to write (atomically).
+    #[arg(long, default_value = "results.json")]
+    pub out: PathBuf,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub jobs: Option<usize>,
+    /// Do not print the report after the run.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// List categories, scenes, planners, hands and objects.
+    List {
+        /// What to list.
+        #[arg(value_enum, default_value = "all")]
+        what: ListWhat,
+    },
+    /// Run a benchmark suite and write a results file.
+    Run(RunArgs),
+    /// Print the tables of a results file; optionally write plots and OMPL logs.
+    Report {
+        /// The results file.
+        file: PathBuf,
+        /// Output format.
+        #[arg(long, value_enum, default_value = "table")]
+        format: FormatArg,
+        /// Write SVG plots into this directory.
+        #[arg(long)]
+        plots: Option<PathBuf>,
+        /// Write the motion results as OMPL benchmark logs (one per scene) into this directory.
+        #[arg(long)]
+        ompl: Option<PathBuf>,
+    },
+    /// Submit a results file to the local high-score database.
+    Submit {
+        /// The results file.
+        file: PathBuf,
+        /// Participant name.
+        #[arg(long)]
+        name: String,
+        /// Group or lab.
+        #[arg(long)]
+        team: Option<String>,
+        /// The high-score database.
+        #[arg(long, default_value = "highscore.sqlite")]
+        db: PathBuf,
+    },
+    /// Print the high-score rankings.
+    Highscore {
+        /// One benchmark (e.g. `grasp/barrett`); all if omitted.
+        benchmark: Option<String>,
+        /// The high-score database.
+        #[arg(long, default_value = "highscore.sqlite")]
+        db: PathBuf,
+    },
+    /// Serve the high-score board over HTTP.
+    Serve {
+        /// The high-score database.
+        #[arg(long, default_value = "highscore.sqlite")]
+        db: PathBuf,
+        /// Address to listen on.
+        #[arg(long, default_value = "127.0.0.1:8080")]
+        addr: String,
+    },
+}
+
+/// Builds the suite `opengrasp run` would run.
+///
+/// # Errors
+/// [`Error::InvalidOption`] for an unknown planner, a bad `--max-candidates` or zero jobs.
+pub fn build_suite(args: &RunArgs) -> Result<Suite> {
+    let size = SuiteSize::from(args.size);
+    let mut suite = match args.which {
+        Which::Grasp => Suite::new().with_reference_grasp(size),
+        Which::Motion => Suite::new().with_reference_motion(size),
+        Which::All => Suite::standard(size),
+    };
+    suite = suite.seed(args.seed);
+    if let Some(r) = args.runs {
+        suite = suite.runs(r);
+    }
+    if let Some(m) = &args.max_candidates {
+        let max = if m.eq_ignore_ascii_case("all") {
+            None
+        } else {
+            Some(m.parse::<usize>().map_err(|e| Error::InvalidOption {
+                name: "max-candidates",
+                reason: format!("{m:?}: {e} (expected a number or `all`)"),
+            })?)
+        };
+        suite = suite.max_candidates(max);
+    }
+    if let Some(j) = args.jobs {
+        if j == 0 {
+            return Err(Error::InvalidOption { name: "jobs", reason: "must be at least 1".into() });
+        }
+        suite = suite.jobs(j);
+    }
+    if !args.planners.is_empty() {
+        suite = suite.retain_planners(&args.planners)?;
+    }
+    Ok(suite)
+}
+
+/// Progress bars on stderr (one per category), hidden when stderr is not a terminal.
+fn progress_bars() -> impl Fn(&Progress) + Send + Sync + 'static {
+    let multi = MultiProgress::with_draw_target(if std::io::stderr().is_terminal() {
+        ProgressDrawTarget::stderr()
+    } else {
+        ProgressDrawTarget::hidden()
+    });
+    let bars: Mutex<HashMap<Category, ProgressBar>> = Mutex::new(HashMap::new());
+    move |p: &Progress| {
+        let Ok(mut bars) = bars.lock() else { return };
+        let bar = bars.entry(p.category).or_insert_with(|| {
+            let bar = multi.add(ProgressBar::new(p.total as u64));
+            let unit = if p.category == Category::Grasp { "cells" } else { "runs" };
+            if let Ok(style) = ProgressStyle::with_template(&format!(
+                "{{prefix:>6}} [{{elapsed_precise}}] {{bar:30}} {{pos}}/{{len}} {unit} (eta {{eta}}) {{msg}}"
+            )) {
+                bar.set_style(style);
+            }
+            bar.set_prefix(p.category.name());
+            bar
+        });
+        bar.set_length(p.total as u64);
+        bar.set_position(p.done as u64);
+        bar.set_message(p.label.clone());
+        if p.done >= p.total {
+            bar.finish();
+        }
+    }
+}
+
+/// Runs `opengrasp run`: the suite, the results file and (unless `quiet`) the report, which
+/// is returned.
+///
+/// # Errors
+/// As [`build_suite`], [`Suite::run`] and [`ResultsFile::save`].
+pub fn run(args: &RunArgs, show_progress: bool) -> Result<(ResultsFile, String)> {
+    let mut suite = build_suite(args)?;
+    if show_progress {
+        suite = suite.on_progress(progress_bars());
+    }
+    let results = suite.run()?;
+    results.save(&args.out)?;
+    let text = if args.quiet { String::new() } else { report::render(&results, Format::Table) };
+    Ok((results, text))
+}
+
+/// The text of `opengrasp list`.
+pub fn list(what: ListWhat) -> String {
+    let suite = Suite::standard(SuiteSize::Default);
+    let tiny = Suite::standard(SuiteSize::Tiny);
+    let mut out = String::new();
+    let section = |out: &mut String, title: &str, items: Vec<String>| {
+        out.push_str(title);
+        out.push_str(":\n");
+        for i in items {
+            out.push_str("  ");
+            out.push_str(&i);
+            out.push('\n');
+        }
+    };
+    let all = what == ListWhat::All;
+    if all || what == ListWhat::Categories {
+        section(&mut out, "categories", vec!["grasp (Tables I, II)".into(), "motion (Table III)".into()]);
+    }
+    if all || what == ListWhat::Scenes {
+        let mut scenes = suite.scene_names();
+        scenes.extend(tiny.scene_names().into_iter().map(|s| format!("{s} (tiny suite)")));
+        section(&mut out, "motion scenes", scenes);
+    }
+    if all || what == ListWhat::Planners {
+        section(&mut out, "planners", suite.planner_names());
+    }
+    if all || what == ListWhat::Hands {
+        section(&mut out, "hands", vec!["armar3".into(), "barrett".into()]);
+    }
+    if all || what == ListWhat::Objects {
+        section(&mut out, "objects", opengrasp_assets::objects::NAMES.iter().map(|s| s.to_string()).collect());
+    }
+    out
+}
+
+/// Executes a parsed command line, printing to stdout.
+///
+/// # Errors
+/// The command's errors.
+pub fn execute(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::List { what } => print!("{}", list(what)),
+        Command::Run(args) => {
+            let (results, text) = run(&args, true)?;
+            print!("{text}");
+            eprintln!(
+                "wrote {} ({:.1} s on {} jobs)",
+                args.out.display(),
+                results.provenance.wall_seconds,
+                results.provenance.jobs
+            );
+        }
+        Command::Report { file, format, plots, ompl } => {
+            let results = ResultsFile::load(&file)?;
+            print!("{}", report::render(&results, format.into()));
+            if let Some(dir) = plots {
+                for p in crate::plots::plot_all(&results, &dir)? {
+                    eprintln!("wrote {}", p.display());
+                }
+            }
+            if let Some(dir) = ompl {
+                let motion = results.motion.as_ref().ok_or_else(|| Error::InvalidOption {
+                    name: "ompl",
+                    reason: "the results file has no motion results".into(),
+                })?;
+                std::fs::create_dir_all(&dir).map_err(|source| Error::Io { path: dir.clone(), source })?;
+                for (name, text) in crate::ompl::logs(motion, &results.provenance) {
+                    let path = dir.join(name);
+                    crate::results::write_atomic(&path, |w| std::io::Write::write_all(w, text.as_bytes()))?;
+                    eprintln!("wrote {}", path.display());
+                }
+            }
+        }
+        Command::Submit { file, name, team, db } => {
+            let mut who = crate::highscore::Submitter::new(name);
+            if let Some(t) = team {
+                who = who.with_team(t);
+            }
+            let id = crate::highscore::submit(&db, &file, who)?;
+            println!("stored {} as submission {} in {}", file.display(), id.0, db.display());
+        }
+        Command::Highscore { benchmark, db } => {
+            let rankings = crate::highscore::ranking(&db, benchmark.as_deref())?;
+            print!("{}", crate::highscore::render_rankings(&rankings));
+        }
+        Command::Serve { db, addr } => {
+            eprintln!("serving {} on http://{addr}/", db.display());
+            crate::highscore::serve(&db, &addr)?;
+        }
+    }
+    Ok(())
+}

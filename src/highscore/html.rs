@@ -1,0 +1,124 @@
+//! Server-rendered HTML pages of the high-score board (every interpolated text is escaped).
+
+use std::fmt::Write as _;
+
+use super::{BenchmarkInfo, EntryMetrics, Ranking};
+
+/// Escapes `&`, `<`, `>`, `"` and `'` for HTML text and attribute values.
+pub fn escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&#39;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+const STYLE: &str = "body{font-family:sans-serif;margin:2em;max-width:70em}\
+table{border-collapse:collapse}th,td{padding:.3em .7em;border-bottom:1px solid #ccc;text-align:left}\
+td.n{text-align:right}p.rules{color:#444;font-size:.9em}";
+
+fn page(title: &str, body: &str) -> String {
+    format!(
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{}</title>\n\
+         <style>{STYLE}</style>\n</head>\n<body>\n{body}</body>\n</html>\n",
+        escape(title)
+    )
+}
+
+/// The index page: every benchmark with a link to its high-score page.
+pub fn index_page(benchmarks: &[BenchmarkInfo]) -> String {
+    let mut body = String::from(
+        "<h1>OpenGRASP high-score</h1>\n<table>\n<tr><th>benchmark</th><th>kind</th>\
+<th>description</th><th>submissions</th></tr>\n",
+    );
+    for b in benchmarks {
+        let _ = writeln!(
+            body,
+            "<tr><td><a href=\"/highscore/{id}\">{id}</a></td><td>{kind}</td><td>{desc}</td><td class=\"n\">{n}</td></tr>",
+            id = escape(&b.id),
+            kind = b.kind.as_str(),
+            desc = escape(&b.description),
+            n = b.submissions
+        );
+    }
+    body.push_str(
+        "</table>\n<p>JSON API: <code>GET /api/benchmarks</code>, \
+<code>GET /api/benchmarks/&lt;kind&gt;/&lt;name&gt;/ranking</code>, <code>POST /api/submissions</code>.</p>\n",
+    );
+    page("OpenGRASP high-score", &body)
+}
+
+/// The high-score page of one benchmark.
+pub fn ranking_page(ranking: &Ranking) -> String {
+    let b = &ranking.benchmark;
+    let mut body = format!(
+        "<p><a href=\"/\">all benchmarks</a></p>\n<h1>{}</h1>\n<p>{} (name in results files: <code>{}</code>)</p>\n\
+         <p class=\"rules\">Ranking: {}</p>\n",
+        escape(&b.id),
+        escape(&b.description),
+        escape(&b.target),
+        escape(&ranking.rules)
+    );
+    if ranking.entries.is_empty() {
+        body.push_str("<p>No submissions yet.</p>\n");
+        return page(&format!("{} high-score", b.id), &body);
+    }
+    body.push_str("<table>\n<tr><th>#</th><th>planner</th><th>submitter</th><th>submission</th>");
+    match ranking.entries[0].metrics {
+        EntryMetrics::Grasp { .. } => {
+            body.push_str("<th>FC %</th><th>mean epsilon</th><th>palm-contact candidates</th><th>objects</th>")
+        }
+        EntryMetrics::Motion { .. } => body.push_str(
+            "<th>success %</th><th>median planning time (s)</th><th>valid post-processed %</th><th>runs</th>",
+        ),
+    }
+    body.push_str("<th>seed</th><th>version</th><th>suite</th><th>submitted</th><th>parameters</th></tr>\n");
+    for e in &ranking.entries {
+        let who = match &e.team {
+            Some(t) => format!("{} ({})", escape(&e.submitter), escape(t)),
+            None => escape(&e.submitter),
+        };
+        let _ = write!(
+            body,
+            "<tr><td class=\"n\">{}</td><td>{}</td><td>{who}</td><td class=\"n\">{}</td>",
+            e.rank,
+            escape(&e.planner),
+            e.submission.0
+        );
+        let figures = match &e.metrics {
+            EntryMetrics::Grasp { fc_percent, mean_epsilon, palm_contact, objects, .. } => [
+                format!("{fc_percent:.1}"),
+                format!("{mean_epsilon:.4}"),
+                palm_contact.to_string(),
+                objects.to_string(),
+            ],
+            EntryMetrics::Motion { success_rate, median_planning_time, valid_processed, runs, .. } => [
+                format!("{success_rate:.1}"),
+                median_planning_time.map_or_else(|| "-".to_string(), |t| format!("{t:.4}")),
+                format!("{valid_processed:.1}"),
+                runs.to_string(),
+            ],
+        };
+        for f in figures {
+            let _ = write!(body, "<td class=\"n\">{f}</td>");
+        }
+        let _ = writeln!(
+            body,
+            "<td class=\"n\">{}</td><td>{}</td><td>{}</td><td>{}</td><td><code>{}</code></td></tr>",
+            e.seed.map_or_else(|| "-".to_string(), |s| s.to_string()),
+            escape(&e.version),
+            escape(&e.suite_size),
+            escape(&e.submitted_at),
+            escape(e.parameters.as_deref().unwrap_or("-"))
+        );
+    }
+    body.push_str("</table>\n");
+    page(&format!("{} high-score", b.id), &body)
+}

@@ -1,0 +1,538 @@
+//! The benchmark suite: reference planners and your own, graded in one run.
+//!
+//! A [`Suite`] collects grasp planners (any [`GraspPlanner`]), motion planners (factories of
+//! any [`MotionPlanner`]: every scene × planner job gets a fresh instance), hands, objects and
+//! motion scenes, runs them in parallel with rayon and returns a [`ResultsFile`] with full
+//! provenance. Jobs are independent and seeded (grasp: one job per hand × object, every
+//! planner on it; motion: one job per scene × planner with all its runs in order when the
+//! scene's environment is shared, so setup work such as a PRM roadmap is reused, otherwise one
+//! job per run with a fresh planner), and their results are collected in job order, so the
+//! records of a parallel run equal those of a serial one for the same seeds (only the timing
+//! fields differ).
+//!
+//! [`SuiteSize`] picks the reference suite's size:
+//!
+//! | size | grasp | motion |
+//! | --- | --- | --- |
+//! | `Tiny` | salt can, Barrett hand, 4 candidates per cell | planar 2-link arm ([`planar_scene`]), RRT-Connect + PRM (200 nodes), 2 runs |
+//! | `Default` | the 8 paper objects × ARMAR-III and Barrett hands, at most 128 candidates per cell (even stride over each planner's list) | the 4 scenes of [`opengrasp_motion::scenes`] (ARMAR-III kitchen standard and IK-based, their 7-DoF stand-ins), RRT-Connect, PRM (600 nodes; 150 on the IK-based scenes, whose setup runs every run), IK-RRT (IK-based scenes only), 20 runs |
+//! | `Paper` | every candidate (Tables I and II) | as `Default` with 100 runs (Table III) |
+//!
+//! The default size finishes in a few minutes on two cores in release mode: `opengrasp run
+//! all` took 81 s wall (92 s CPU) on a shared two-core Xeon VM (grasp: 4040 candidates
+//! evaluated in 8 s; motion: 200 runs, dominated by post-processing and the PRM roadmaps).
+//! `SuiteSize::Paper` is the full paper-sized suite.
+//!
+//! ```
+//! use opengrasp::suite::{planar_scene, Suite};
+//! use opengrasp::motion::planners::RrtConnect;
+//!
+//! # fn main() -> opengrasp::Result<()> {
+//! let results = Suite::new()
+//!     .motion_planner("default options", || Box::new(RrtConnect::default()))
+//!     .motion_scene(planar_scene())
+//!     .runs(2)
+//!     .run()?;
+//! assert_eq!(results.motion.unwrap().runs.len(), 2);
+//! # Ok(())
+//! # }
+//! ```
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Arc;
+use std::time::Instant;
+
+use nalgebra::{Isometry3, Vector3};
+use opengrasp_core::model::{samples, JointGroup};
+use opengrasp_grasp::benchmark::{run_grasp_benchmark_with, BenchmarkHand, GraspBenchmarkConfig, PAPER_OBJECTS};
+use opengrasp_grasp::planners::{GraspPlanner, MedialAxisPlanner, SurfaceNormalPlanner};
+use opengrasp_motion::benchmark::{run_benchmark, BenchmarkOptions, BenchmarkScene, RunRecord, SceneInstance, Summary};
+use opengrasp_motion::planners::{IkRrt, Prm, PrmOptions, RrtConnect};
+use opengrasp_motion::scenes::{armar_ik_scene, armar_standard_scene, ik_scene, standard_scene, CheckerKind};
+use opengrasp_motion::validity::{ObstacleBox, SphereWorld};
+use opengrasp_motion::{Goal, MotionPlanner};
+use rayon::prelude::*;
+
+use crate::results::{
+    Category, Error, GraspRecord, GraspSection, MotionSection, PlannerInfo, Provenance, Result, ResultsFile,
+};
+
+/// Size of the reference suite (see the [module docs](self) for what each contains).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SuiteSize {
+    /// A seconds-long smoke test.
+    Tiny,
+    /// A few minutes on two cores in release mode.
+    #[default]
+    Default,
+    /// The paper's sizes (every grasp candidate, 100 motion runs): tens of minutes or more.
+    Paper,
+}
+
+impl SuiteSize {
+    /// `"tiny"`, `"default"` or `"paper"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Tiny => "tiny",
+            Self::Default => "default",
+            Self::Paper => "paper",
+        }
+    }
+
+    /// Grasp candidates evaluated per cell at most (`None`: all).
+    pub fn max_candidates(self) -> Option<usize> {
+        match self {
+            Self::Tiny => Some(4),
+            Self::Default => Some(128),
+            Self::Paper => None,
+        }
+    }
+
+    /// Motion runs per planner per scene.
+    pub fn runs(self) -> usize {
+        match self {
+            Self::Tiny => 2,
+            Self::Default => 20,
+            Self::Paper => 100,
+        }
+    }
+}
+
+/// Progress of a running suite, passed to the [`Suite::on_progress`] callback.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Progress {
+    /// The benchmark the update is about.
+    pub category: Category,
+    /// Units done (grasp: hand × object cells; motion: runs).
+    pub done: usize,
+    /// Units in total.
+    pub total: usize,
+    /// What just finished (e.g. `"barrett/salt_can"` or `"PRM on standard (7-DoF stand-in)"`).
+    pub label: String,
+}
+
+/// A factory of motion planners given the scene name (each job gets a fresh instance).
+pub type MotionPlannerFactory = Box<dyn Fn(&str) -> Box<dyn MotionPlanner> + Send + Sync>;
+
+struct MotionEntry {
+    info: PlannerInfo,
+    factory: MotionPlannerFactory,
+    /// Scenes this planner runs on (`None`: all).
+    scenes: Option<Vec<String>>,
+}
+
+struct GraspEntry {
+    info: PlannerInfo,
+    planner: Box<dyn GraspPlanner>,
+}
+
+type ProgressFn = Arc<dyn Fn(&Progress) + Send + Sync>;
+
+/// A benchmark suite under construction; [`Suite::run`] runs it.
+pub struct Suite {
+    size_label: String,
+    grasp_planners: Vec<GraspEntry>,
+    grasp: GraspBenchmarkConfig,
+    motion_planners: Vec<MotionEntry>,
+    motion_scenes: Vec<BenchmarkScene>,
+    motion: BenchmarkOptions,
+    jobs: usize,
+    progress: Option<ProgressFn>,
+}
+
+impl Default for Suite {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Suite {
+    /// An empty suite: no planners, no scenes; grasp hands and objects as in
+    /// [`GraspBenchmarkConfig::default`] (both hands, the 8 paper objects, every candidate),
+    /// motion options as in [`BenchmarkOptions::default`]; all available cores.
+    pub fn new() -> Self {
+        Self {
+            size_label: "custom".into(),
+            grasp_planners: Vec::new(),
+            grasp: GraspBenchmarkConfig::default(),
+            motion_planners: Vec::new(),
+            motion_scenes: Vec::new(),
+            motion: BenchmarkOptions::default(),
+            jobs: std::thread::available_parallelism().map_or(1, |n| n.get()),
+            progress: None,
+        }
+    }
+
+    /// The reference suite of the given size: both benchmarks.
+    pub fn standard(size: SuiteSize) -> Self {
+        Self::new().with_reference_grasp(size).with_reference_motion(size).labelled(size.name())
+    }
+
+    /// Sets the size label recorded in the provenance (default `"custom"`).
+    pub fn labelled(mut self, label: &str) -> Self {
+        self.size_label = label.to_string();
+        self
+    }
+
+    /// Adds the reference grasp planners (medial axis, surface normals) and sets hands,
+    /// objects and candidate count for `size`.
+    pub fn with_reference_grasp(mut self, size: SuiteSize) -> Self {
+        let ma = self.grasp.medial_axis.clone();
+        let sn = self.grasp.surface_normal.clone();
+        self = self
+            .grasp_planner(format!("{ma:?}"), MedialAxisPlanner::new(ma))
+            .grasp_planner(format!("{sn:?}"), SurfaceNormalPlanner::new(sn));
+        self.grasp.max_candidates = size.max_candidates();
+        match size {
+            SuiteSize::Tiny => {
+                self.grasp.objects = vec!["salt_can".into()];
+                self.grasp.hands = vec![BenchmarkHand::Barrett];
+            }
+            SuiteSize::Default | SuiteSize::Paper => {
+                self.grasp.objects = PAPER_OBJECTS.iter().map(|(_, n)| n.to_string()).collect();
+                self.grasp.hands = vec![BenchmarkHand::Armar3, BenchmarkHand::Barrett];
+            }
+        }
+        self.size_label = size.name().into();
+        self
+    }
+
+    /// Adds the reference motion planners and scenes for `size` and sets the runs.
+    pub fn with_reference_motion(mut self, size: SuiteSize) -> Self {
+        self.motion.runs = size.runs();
+        match size {
+            SuiteSize::Tiny => {
+                let prm = PrmOptions { nodes: 200, ..PrmOptions::default() };
+                self = self
+                    .motion_planner(format!("{:?}", RrtConnect::default().options), || Box::new(RrtConnect::default()))
+                    .motion_planner(format!("{prm:?}"), move || Box::new(Prm::new(prm)))
+                    .motion_scene(planar_scene());
+            }
+            SuiteSize::Default | SuiteSize::Paper => {
+                let prm = PrmOptions::default();
+                // Smaller roadmaps where the environment changes every run (setup per run),
+                // as in the paper's IK-based scene.
+                let prm_ik = PrmOptions { nodes: 150, ..prm };
+                let ik_scenes = vec![armar_ik_scene(), ik_scene(CheckerKind::Exact)];
+                let ik_names: Vec<String> = ik_scenes.iter().map(|s| s.name.clone()).collect();
+                let prm_names = ik_names.clone();
+                self = self
+                    .motion_planner(format!("{:?}", RrtConnect::default().options), || Box::new(RrtConnect::default()))
+                    .motion_planner_per_scene(
+                        format!("{prm:?}; nodes = {} on the IK-based scenes", prm_ik.nodes),
+                        move |scene: &str| {
+                            Box::new(Prm::new(if prm_names.iter().any(|n| n == scene) { prm_ik } else { prm }))
+                        },
+                    )
+                    .motion_planner_on(ik_names, format!("{:?}", IkRrt::default().options), || {
+                        Box::new(IkRrt::default())
+                    })
+                    .motion_scene(armar_standard_scene())
+                    .motion_scene(standard_scene(CheckerKind::Exact));
+                for s in ik_scenes {
+                    self = self.motion_scene(s);
+                }
+            }
+        }
+        self.size_label = size.name().into();
+        self
+    }
+
+    /// Adds a grasp planner; `parameters` describes its settings in the results.
+    pub fn grasp_planner(mut self, parameters: impl Into<String>, planner: impl GraspPlanner + 'static) -> Self {
+        let info = PlannerInfo { name: planner.name().to_string(), parameters: parameters.into() };
+        self.grasp_planners.push(GraspEntry { info, planner: Box::new(planner) });
+        self
+    }
+
+    /// Adds a motion planner, run on every scene; `factory` makes a fresh instance per scene
+    /// and `parameters` describes its settings in the results.
+    pub fn motion_planner(
+        self,
+        parameters: impl Into<String>,
+        factory: impl Fn() -> Box<dyn MotionPlanner> + Send + Sync + 'static,
+    ) -> Self {
+        self.add_motion(None, parameters.into(), Box::new(move |_: &str| factory()))
+    }
+
+    /// As [`Suite::motion_planner`], run only on the named scenes.
+    pub fn motion_planner_on(
+        self,
+        scenes: Vec<String>,
+        parameters: impl Into<String>,
+        factory: impl Fn() -> Box<dyn MotionPlanner> + Send + Sync + 'static,
+    ) -> Self {
+        self.add_motion(Some(scenes), parameters.into(), Box::new(move |_: &str| factory()))
+    }
+
+    /// As [`Suite::motion_planner`] with options that depend on the scene: `factory` gets the
+    /// scene's name. The planner's name must not depend on it.
+    pub fn motion_planner_per_scene(
+        self,
+        parameters: impl Into<String>,
+        factory: impl Fn(&str) -> Box<dyn MotionPlanner> + Send + Sync + 'static,
+    ) -> Self {
+        self.add_motion(None, parameters.into(), Box::new(factory))
+    }
+
+    fn add_motion(mut self, scenes: Option<Vec<String>>, parameters: String, factory: MotionPlannerFactory) -> Self {
+        let name = factory("").name().to_string();
+        self.motion_planners.push(MotionEntry { info: PlannerInfo { name, parameters }, factory, scenes });
+        self
+    }
+
+    /// Adds a motion benchmark scene.
+    pub fn motion_scene(mut self, scene: BenchmarkScene) -> Self {
+        self.motion_scenes.push(scene);
+        self
+    }
+
+    /// Sets the grasp hands.
+    pub fn hands(mut self, hands: Vec<BenchmarkHand>) -> Self {
+        self.grasp.hands = hands;
+        self
+    }
+
+    /// Sets the grasp objects (asset names, see `opengrasp::assets::objects::NAMES`).
+    pub fn objects(mut self, objects: Vec<String>) -> Self {
+        self.grasp.objects = objects;
+        self
+    }
+
+    /// Sets the grasp candidates evaluated per cell at most (`None`: all).
+    pub fn max_candidates(mut self, max: Option<usize>) -> Self {
+        self.grasp.max_candidates = max;
+        self
+    }
+
+    /// Replaces the grasp benchmark configuration (hands, objects, evaluator, ...); the
+    /// reference planners already added keep their options.
+    pub fn grasp_config(mut self, config: GraspBenchmarkConfig) -> Self {
+        self.grasp = config;
+        self
+    }
+
+    /// Replaces the motion benchmark options (runs, seed, time limit, validator steps, ...).
+    pub fn motion_options(mut self, options: BenchmarkOptions) -> Self {
+        self.motion = options;
+        self
+    }
+
+    /// Sets the motion runs per planner per scene.
+    pub fn runs(mut self, runs: usize) -> Self {
+        self.motion.runs = runs;
+        self
+    }
+
+    /// Sets the base seed of both benchmarks.
+    pub fn seed(mut self, seed: u64) -> Self {
+        self.grasp.seed = seed;
+        self.motion.seed = seed;
+        self
+    }
+
+    /// Sets the worker threads (1: serial; default: all cores).
+    pub fn jobs(mut self, jobs: usize) -> Self {
+        self.jobs = jobs;
+        self
+    }
+
+    /// Calls `f` after every finished job.
+    pub fn on_progress(mut self, f: impl Fn(&Progress) + Send + Sync + 'static) -> Self {
+        self.progress = Some(Arc::new(f));
+        self
+    }
+
+    /// Keeps only the planners whose name matches one of `names` (ASCII case-insensitive).
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] naming the unknown planners if a name matches none.
+    pub fn retain_planners(mut self, names: &[String]) -> Result<Self> {
+        let matches = |n: &str| names.iter().any(|x| x.eq_ignore_ascii_case(n));
+        let unknown: Vec<&String> = names
+            .iter()
+            .filter(|x| {
+                !self.grasp_planners.iter().any(|p| p.info.name.eq_ignore_ascii_case(x))
+                    && !self.motion_planners.iter().any(|p| p.info.name.eq_ignore_ascii_case(x))
+            })
+            .collect();
+        if !unknown.is_empty() {
+            return Err(Error::InvalidOption {
+                name: "planner",
+                reason: format!("unknown planner(s) {unknown:?}; known: {:?}", self.planner_names()),
+            });
+        }
+        self.grasp_planners.retain(|p| matches(&p.info.name));
+        self.motion_planners.retain(|p| matches(&p.info.name));
+        Ok(self)
+    }
+
+    /// Names of the planners in the suite (grasp, then motion).
+    pub fn planner_names(&self) -> Vec<String> {
+        self.grasp_planners
+            .iter()
+            .map(|p| p.info.name.clone())
+            .chain(self.motion_planners.iter().map(|p| p.info.name.clone()))
+            .collect()
+    }
+
+    /// Names of the motion scenes.
+    pub fn scene_names(&self) -> Vec<String> {
+        self.motion_scenes.iter().map(|s| s.name.clone()).collect()
+    }
+
+    /// Runs the suite: the grasp benchmark if it has grasp planners, the motion benchmark if
+    /// it has motion planners and scenes.
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] for zero jobs or an empty suite; grasp benchmark errors
+    /// (unknown object, planner errors). Motion failures are recorded in the runs.
+    pub fn run(&self) -> Result<ResultsFile> {
+        if self.jobs == 0 {
+            return Err(Error::InvalidOption { name: "jobs", reason: "must be at least 1".into() });
+        }
+        let has_motion = !self.motion_planners.is_empty() && !self.motion_scenes.is_empty();
+        if self.grasp_planners.is_empty() && !has_motion {
+            return Err(Error::InvalidOption { name: "suite", reason: "no planners (or no scenes) to run".into() });
+        }
+        let start = Instant::now();
+        let mut provenance = Provenance::collect(&self.size_label, self.jobs);
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(self.jobs)
+            .build()
+            .map_err(|e| Error::InvalidOption { name: "jobs", reason: e.to_string() })?;
+        let grasp = if self.grasp_planners.is_empty() { None } else { Some(pool.install(|| self.run_grasp())?) };
+        let motion = if has_motion { Some(pool.install(|| self.run_motion())) } else { None };
+        provenance.finish(start.elapsed().as_secs_f64());
+        let mut file = ResultsFile::new(provenance);
+        file.grasp = grasp;
+        file.motion = motion;
+        Ok(file)
+    }
+
+    fn report(&self, category: Category, done: &AtomicUsize, add: usize, total: usize, label: String) {
+        let done = done.fetch_add(add, Ordering::Relaxed) + add;
+        if let Some(f) = &self.progress {
+            f(&Progress { category, done, total, label });
+        }
+    }
+
+    fn run_grasp(&self) -> Result<GraspSection> {
+        let jobs: Vec<(BenchmarkHand, &String)> =
+            self.grasp.hands.iter().flat_map(|&h| self.grasp.objects.iter().map(move |o| (h, o))).collect();
+        let planners: Vec<&dyn GraspPlanner> = self.grasp_planners.iter().map(|p| &*p.planner).collect();
+        let done = AtomicUsize::new(0);
+        let run_job = |(hand, object): &(BenchmarkHand, &String)| -> Result<Vec<GraspRecord>> {
+            let config =
+                GraspBenchmarkConfig { hands: vec![*hand], objects: vec![(*object).clone()], ..self.grasp.clone() };
+            let results = run_grasp_benchmark_with(&config, &planners)?;
+            self.report(Category::Grasp, &done, 1, jobs.len(), format!("{}/{}", hand.name(), object));
+            Ok(results.cells.into_iter().map(|cell| GraspRecord { seed: config.seed, cell }).collect())
+        };
+        let per_job: Vec<Result<Vec<GraspRecord>>> =
+            if self.jobs == 1 { jobs.iter().map(run_job).collect() } else { jobs.par_iter().map(run_job).collect() };
+        let mut cells = Vec::new();
+        for r in per_job {
+            cells.extend(r?);
+        }
+        Ok(GraspSection {
+            seed: self.grasp.seed,
+            hands: self.grasp.hands.iter().map(|h| h.name().to_string()).collect(),
+            objects: self.grasp.objects.clone(),
+            max_candidates: self.grasp.max_candidates,
+            planners: self.grasp_planners.iter().map(|p| p.info.clone()).collect(),
+            cells,
+        })
+    }
+
+    fn run_motion(&self) -> MotionSection {
+        let pairs: Vec<(&BenchmarkScene, &MotionEntry)> = self
+            .motion_scenes
+            .iter()
+            .flat_map(|s| {
+                self.motion_planners
+                    .iter()
+                    .filter(|p| p.scenes.as_ref().is_none_or(|names| names.contains(&s.name)))
+                    .map(move |p| (s, p))
+            })
+            .collect();
+        // Shared environments: all runs of a pair in one job (the planner's setup, e.g. a PRM
+        // roadmap, is reused across them). Otherwise setup runs per run anyway, so every run
+        // is its own job with a fresh planner. The split never depends on `jobs`.
+        let runs = self.motion.runs;
+        let jobs: Vec<(usize, std::ops::Range<usize>)> = pairs
+            .iter()
+            .enumerate()
+            .flat_map(|(k, (scene, _))| {
+                let ranges: Vec<std::ops::Range<usize>> = if scene.shared_environment {
+                    std::iter::once(0..runs).collect()
+                } else {
+                    (0..runs).map(|r| r..r + 1).collect()
+                };
+                ranges.into_iter().filter(|r| !r.is_empty()).map(move |r| (k, r))
+            })
+            .collect();
+        let total = pairs.len() * runs;
+        let done = AtomicUsize::new(0);
+        let run_job = |(k, range): &(usize, std::ops::Range<usize>)| {
+            let (scene, entry) = pairs[*k];
+            let options = BenchmarkOptions {
+                runs: range.len(),
+                seed: self.motion.seed.wrapping_add(range.start as u64),
+                ..self.motion.clone()
+            };
+            let mut planners = vec![(entry.factory)(&scene.name)];
+            let mut report = run_benchmark(&mut planners, std::slice::from_ref(scene), &options);
+            for r in &mut report.runs {
+                r.run += range.start;
+            }
+            let label = format!("{} on {}", entry.info.name, scene.name);
+            self.report(Category::Motion, &done, range.len(), total, label);
+            report.runs
+        };
+        let per_job: Vec<Vec<RunRecord>> =
+            if self.jobs == 1 { jobs.iter().map(run_job).collect() } else { jobs.par_iter().map(run_job).collect() };
+        let all: Vec<RunRecord> = per_job.into_iter().flatten().collect();
+        let summaries = pairs
+            .iter()
+            .map(|(scene, entry)| {
+                let records: Vec<&RunRecord> =
+                    all.iter().filter(|r| r.scene == scene.name && r.planner == entry.info.name).collect();
+                Summary::from_records(&entry.info.name, &scene.name, &records)
+            })
+            .collect();
+        MotionSection {
+            options: self.motion.clone(),
+            scenes: self.scene_names(),
+            planners: self.motion_planners.iter().map(|p| p.info.clone()).collect(),
+            runs: all,
+            summaries,
+        }
+    }
+}
+
+/// A small motion scene for tests and examples: the planar two-link arm (0.5 m and 0.4 m
+/// links) from `(1.2, 0.3)` to `(-1.2, 0.3)` rad around a 0.1 × 0.1 × 0.5 m post at
+/// x = 0.6 m (closed-form sphere-model checker). Named `"planar post"`; shared environment.
+pub fn planar_scene() -> BenchmarkScene {
+    BenchmarkScene {
+        name: "planar post".into(),
+        shared_environment: true,
+        generate: Box::new(|_seed| {
+            let robot = Arc::new(samples::planar_arm(&[0.5, 0.4])?);
+            let group = JointGroup::all(&robot, "arm")?;
+            let post = ObstacleBox::new("post", Isometry3::translation(0.6, 0.0, 0.0), Vector3::new(0.1, 0.1, 0.5));
+            let world =
+                SphereWorld::new(robot.clone(), group.clone(), vec![0.0, 0.0], Isometry3::identity(), vec![post])?;
+            Ok(SceneInstance {
+                robot,
+                group,
+                q_full: vec![0.0, 0.0],
+                tip: None,
+                start: vec![1.2, 0.3],
+                goal: Goal::Configuration(vec![-1.2, 0.3]),
+                checker: Box::new(world),
+            })
+        }),
+    }
+}

@@ -1,0 +1,581 @@
+//! The runner: results files (round trip, atomic writes, validation, provenance), reports,
+//! parallel == serial, and the command line end to end (tiny suites).
+
+use std::path::{Path, PathBuf};
+
+use clap::Parser;
+use opengrasp::cli::{self, Cli, Command, FormatArg, ListWhat, RunArgs, SizeArg, Which};
+use opengrasp::grasp::benchmark::{BenchmarkHand, CellResult};
+use opengrasp::motion::benchmark::{BenchmarkOptions, PathReport, RunRecord, RunStatus};
+use opengrasp::motion::metrics::PathMetrics;
+use opengrasp::motion::planners::{Prm, PrmOptions, RrtConnect};
+use opengrasp::motion::validate::PathValidity;
+use opengrasp::report::{self, Format};
+use opengrasp::results::{
+    self, write_atomic, Error, GraspRecord, GraspSection, MotionSection, PlannerInfo, Provenance, ResultsFile,
+    SCHEMA_VERSION,
+};
+use opengrasp::suite::{planar_scene, Suite, SuiteSize};
+
+/// A fresh empty directory under the system temp dir.
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("opengrasp-runner-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn cell(
+    planner: &str,
+    hand: &str,
+    object: &str,
+    evaluated: usize,
+    palm: usize,
+    fc_palm: usize,
+    fc: usize,
+) -> CellResult {
+    let pct = |a: usize, b: usize| if b == 0 { 0.0 } else { 100.0 * a as f64 / b as f64 };
+    CellResult {
+        planner: planner.into(),
+        hand: hand.into(),
+        object: object.into(),
+        generated: evaluated * 2,
+        evaluated,
+        closed: evaluated,
+        palm_contact: palm,
+        force_closure_palm: fc_palm,
+        force_closure: fc,
+        fc_percent_palm: pct(fc_palm, palm),
+        fc_percent_all: pct(fc, evaluated),
+        mean_epsilon: 0.05,
+        median_epsilon: 0.04,
+        physics_tested: 0,
+        physics_held: 0,
+        planning_seconds: 0.01,
+        evaluation_seconds: 0.2,
+        evaluations_per_second: evaluated as f64 / 0.2,
+    }
+}
+
+fn path_report(length: f64, clearance: f64, valid: bool) -> PathReport {
+    PathReport {
+        validity: PathValidity { discrete: valid, strict: valid, continuous: None },
+        metrics: PathMetrics {
+            waypoints: 5,
+            length,
+            ee_length: None,
+            clearance_mean: Some(clearance),
+            clearance_min: Some(clearance / 2.0),
+            smoothness: 0.5,
+        },
+    }
+}
+
+fn run(planner: &str, run: usize, status: RunStatus, planning_time: f64, length: f64) -> RunRecord {
+    let solved = status == RunStatus::Solved;
+    RunRecord {
+        planner: planner.into(),
+        scene: "scene A".into(),
+        run,
+        seed: run as u64,
+        status,
+        message: (!solved).then(|| "planning timed out".to_string()),
+        setup_time: 0.5,
+        planning_time,
+        postprocessing_time: solved.then_some(0.1),
+        planning_checks: 100,
+        postprocessing_checks: 50,
+        iterations: solved.then_some(10),
+        shortcuts: solved.then_some(2),
+        repaired_segments: solved.then_some(0),
+        unrepaired_segments: solved.then_some(0),
+        planned: solved.then(|| path_report(length * 2.0, 0.2, run != 1)),
+        processed: solved.then(|| path_report(length, 0.1, true)),
+        final_state: solved.then(|| vec![0.1, 0.2]),
+        ik_position_error: None,
+        ik_orientation_error: None,
+    }
+}
+
+/// A hand-made results file with known numbers.
+fn hand_made() -> ResultsFile {
+    let mut file = ResultsFile::new(Provenance::collect("custom", 1));
+    let planners = vec![
+        PlannerInfo { name: "medial-axis".into(), parameters: "defaults".into() },
+        PlannerInfo { name: "surface-normals".into(), parameters: "defaults".into() },
+    ];
+    file.grasp = Some(GraspSection {
+        seed: 3,
+        hands: vec!["barrett".into()],
+        objects: vec!["salt_can".into(), "white_cup".into()],
+        max_candidates: Some(20),
+        planners,
+        cells: vec![
+            GraspRecord { seed: 3, cell: cell("medial-axis", "barrett", "salt_can", 20, 10, 7, 9) },
+            GraspRecord { seed: 3, cell: cell("surface-normals", "barrett", "salt_can", 20, 4, 1, 2) },
+            GraspRecord { seed: 3, cell: cell("medial-axis", "barrett", "white_cup", 20, 10, 3, 3) },
+            GraspRecord { seed: 3, cell: cell("surface-normals", "barrett", "white_cup", 20, 0, 0, 1) },
+        ],
+    });
+    file.motion = Some(MotionSection {
+        options: BenchmarkOptions { runs: 3, ..BenchmarkOptions::default() },
+        scenes: vec!["scene A".into()],
+        planners: vec![PlannerInfo { name: "P1".into(), parameters: "x = 1".into() }],
+        runs: vec![
+            run("P1", 0, RunStatus::Solved, 0.001, 1.0),
+            run("P1", 1, RunStatus::Solved, 0.003, 2.0),
+            run("P1", 2, RunStatus::Timeout, 0.008, 0.0),
+        ],
+        summaries: Vec::new(),
+    });
+    file
+}
+
+#[test]
+fn results_round_trip_through_a_file() {
+    let dir = temp_dir("roundtrip");
+    let path = dir.join("results.json");
+    let mut file = hand_made();
+    let tiny = Suite::new()
+        .motion_planner("defaults", || Box::new(RrtConnect::default()))
+        .motion_scene(planar_scene())
+        .runs(2)
+        .seed(5)
+        .run()
+        .unwrap();
+    file.motion = tiny.motion;
+    file.save(&path).unwrap();
+    let loaded = ResultsFile::load(&path).unwrap();
+    assert_eq!(loaded, file);
+    let m = loaded.motion.as_ref().unwrap();
+    assert_eq!(m.runs.len(), 2);
+    assert_eq!(m.runs.iter().map(|r| r.seed).collect::<Vec<_>>(), vec![5, 6]);
+    assert_eq!(loaded.grasp.as_ref().unwrap().cells[0].cell.force_closure_palm, 7);
+    // The grasp record is flat in JSON: its seed next to the cell's fields.
+    let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    assert_eq!(json["schema_version"], SCHEMA_VERSION);
+    assert_eq!(json["grasp"]["cells"][0]["seed"], 3);
+    assert_eq!(json["grasp"]["cells"][0]["palm_contact"], 10);
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn failed_write_leaves_the_old_file_intact() {
+    let dir = temp_dir("atomic");
+    let path = dir.join("results.json");
+    let file = hand_made();
+    file.save(&path).unwrap();
+    let before = std::fs::read(&path).unwrap();
+
+    // A writer that fails half-way (as a crash or a full disk would).
+    let err = write_atomic(&path, |w| {
+        std::io::Write::write_all(w, b"{\"schema_version\": 1, \"provenance\": ")?;
+        Err(std::io::Error::other("disk full"))
+    })
+    .unwrap_err();
+    assert!(matches!(err, Error::Io { .. }), "{err}");
+    assert_eq!(std::fs::read(&path).unwrap(), before);
+    // No temporary file is left behind.
+    let names: Vec<String> =
+        std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    assert_eq!(names, vec!["results.json".to_string()]);
+
+    // Invalid results (NaN time) are rejected before anything is written.
+    let mut bad = hand_made();
+    bad.motion.as_mut().unwrap().runs[0].planning_time = f64::NAN;
+    assert!(matches!(bad.save(&path), Err(Error::Invalid { .. })));
+    assert_eq!(std::fs::read(&path).unwrap(), before);
+    assert_eq!(ResultsFile::load(&path).unwrap(), file);
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn loading_validates_the_contents() {
+    let good = hand_made().to_json().unwrap();
+    assert!(ResultsFile::from_json(&good).is_ok());
+
+    let mut v: serde_json::Value = serde_json::from_str(&good).unwrap();
+    v["grasp"]["cells"][1]["fc_percent_palm"] = serde_json::json!(150.0);
+    match ResultsFile::from_json(&v.to_string()) {
+        Err(Error::Invalid { field, .. }) => assert_eq!(field, "grasp.cells[1].fc_percent_palm"),
+        other => panic!("expected an invalid field, got {other:?}"),
+    }
+
+    let mut v: serde_json::Value = serde_json::from_str(&good).unwrap();
+    v["motion"]["runs"][2]["planning_time"] = serde_json::json!(-1.0);
+    match ResultsFile::from_json(&v.to_string()) {
+        Err(Error::Invalid { field, .. }) => assert_eq!(field, "motion.runs[2].planning_time"),
+        other => panic!("expected an invalid field, got {other:?}"),
+    }
+
+    let mut v: serde_json::Value = serde_json::from_str(&good).unwrap();
+    v["grasp"]["cells"][0]["force_closure_palm"] = serde_json::json!(11);
+    assert!(matches!(ResultsFile::from_json(&v.to_string()), Err(Error::Invalid { .. })));
+
+    let mut v: serde_json::Value = serde_json::from_str(&good).unwrap();
+    v["motion"]["runs"][0]["planner"] = serde_json::json!("unlisted");
+    assert!(matches!(ResultsFile::from_json(&v.to_string()), Err(Error::Invalid { .. })));
+
+    let mut v: serde_json::Value = serde_json::from_str(&good).unwrap();
+    v["schema_version"] = serde_json::json!(2);
+    assert!(matches!(
+        ResultsFile::from_json(&v.to_string()),
+        Err(Error::SchemaVersion { found: 2, expected: SCHEMA_VERSION })
+    ));
+
+    assert!(matches!(ResultsFile::from_json(&good[..good.len() / 2]), Err(Error::Parse { .. })));
+    assert!(matches!(ResultsFile::load(Path::new("/nonexistent/results.json")), Err(Error::Io { .. })));
+}
+
+#[test]
+fn provenance_fields_are_filled() {
+    let p = Provenance::collect("default", 2);
+    assert_eq!(p.suite_version, results::SUITE_VERSION);
+    assert_eq!(p.suite_size, "default");
+    assert_eq!(p.opengrasp_version, env!("CARGO_PKG_VERSION"));
+    assert_eq!(p.crate_versions.len(), 5);
+    assert_eq!(p.crate_versions["opengrasp-motion"], env!("CARGO_PKG_VERSION"));
+    assert!(p.cpu_cores >= 1);
+    assert_eq!(p.jobs, 2);
+    assert_eq!(p.os, std::env::consts::OS);
+    // UTC ISO-8601: 2026-11-23T01:40:00Z
+    let d = p.started_at.as_bytes();
+    assert_eq!(d.len(), 20, "{}", p.started_at);
+    assert!(p.started_at.ends_with('Z') && d[4] == b'-' && d[7] == b'-' && d[10] == b'T' && d[13] == b':');
+    let year: i32 = p.started_at[..4].parse().unwrap();
+    assert!((2024..2200).contains(&year));
+    if Path::new("/proc/cpuinfo").exists() {
+        assert!(p.cpu_model.as_deref().is_some_and(|m| !m.is_empty()));
+    }
+    // The tests run in the package root: inside the repository if it is a git checkout.
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    if root.join(".git").exists() {
+        let commit = results::git_commit(root).expect("commit of the checkout");
+        assert_eq!(commit.len(), 40);
+        assert!(commit.chars().all(|c| c.is_ascii_hexdigit()));
+        if let Ok(out) = std::process::Command::new("git").arg("-C").arg(root).args(["rev-parse", "HEAD"]).output() {
+            if out.status.success() {
+                assert_eq!(commit, String::from_utf8(out.stdout).unwrap().trim());
+            }
+        }
+    }
+    assert_eq!(results::git_commit(&std::env::temp_dir().join("no-such-dir-opengrasp")), None);
+}
+
+#[test]
+fn grasp_tables_have_the_right_numbers() {
+    let file = hand_made();
+    let tables = report::grasp_tables(file.grasp.as_ref().unwrap());
+    assert_eq!(tables.len(), 1);
+    let t = &tables[0];
+    assert!(t.title.starts_with("Table II"));
+    assert_eq!(t.cell("Salt can", "MA tested"), Some("10"));
+    assert_eq!(t.cell("Salt can", "MA FC %"), Some("70.0"));
+    assert_eq!(t.cell("Salt can", "SN tested"), Some("4"));
+    assert_eq!(t.cell("Salt can", "SN FC %"), Some("25.0"));
+    assert_eq!(t.cell("White cup", "SN FC %"), Some("-"));
+    // The paper's Table II numbers beside ours.
+    assert_eq!(t.cell("Salt can", "MA paper tested"), Some("1072"));
+    assert_eq!(t.cell("Salt can", "MA paper FC %"), Some("91.4"));
+    assert_eq!(t.cell("White cup", "SN paper FC %"), Some("37.5"));
+    // Totals: (7 + 3) / (10 + 10) and (1 + 0) / (4 + 0).
+    assert_eq!(t.cell("total", "MA tested"), Some("20"));
+    assert_eq!(t.cell("total", "MA FC %"), Some("50.0"));
+    assert_eq!(t.cell("total", "SN FC %"), Some("25.0"));
+    // Paper totals: 1072·0.914 + 732·0.638 over 1804 = 80.2 %.
+    assert_eq!(t.cell("total", "MA paper FC %"), Some("80.2"));
+
+    let md = t.render(Format::Markdown);
+    assert!(md.contains("| Salt can | 10 | 70.0 | 0.0500 | 1072 | 91.4 | 4 | 25.0 |"), "{md}");
+    let csv = t.render(Format::Csv);
+    assert!(csv.lines().any(|l| l == "object,MA tested,MA FC %,MA eps,MA paper tested,MA paper FC %,SN tested,SN FC %,SN eps,SN paper tested,SN paper FC %"), "{csv}");
+    assert!(csv.lines().any(|l| l.starts_with("Salt can,10,70.0,0.0500,1072,91.4,4,25.0,")), "{csv}");
+}
+
+#[test]
+fn motion_tables_have_the_right_numbers() {
+    let file = hand_made();
+    let tables = report::motion_tables(file.motion.as_ref().unwrap());
+    assert_eq!(tables.len(), 3);
+    let (times, quality, pct) = (&tables[0], &tables[1], &tables[2]);
+    let row = "scene A / P1";
+    assert_eq!(times.cell(row, "runs"), Some("3"));
+    assert_eq!(times.cell(row, "success %"), Some("66.7"));
+    assert_eq!(times.cell(row, "setup [ms]"), Some("500.00"));
+    // Planning times 1, 3, 8 ms: mean 4, median 3.
+    assert_eq!(times.cell(row, "planning [ms]"), Some("4.00"));
+    assert_eq!(times.cell(row, "planning p50 [ms]"), Some("3.00"));
+    assert_eq!(times.cell(row, "post-proc. [ms]"), Some("100.00"));
+    // Run 1's planned path is invalid: 50 % valid planned, 100 % post-processed.
+    assert_eq!(quality.cell(row, "valid P %"), Some("50.0"));
+    assert_eq!(quality.cell(row, "valid PP %"), Some("100.0"));
+    // Lengths: planned 2 and 4 (mean 3), processed 1 and 2 (mean 1.5).
+    assert_eq!(quality.cell(row, "length P"), Some("3.000"));
+    assert_eq!(quality.cell(row, "length PP"), Some("1.500"));
+    assert_eq!(quality.cell(row, "clearance P [mm]"), Some("200.0"));
+    assert_eq!(quality.cell(row, "clearance PP [mm]"), Some("100.0"));
+    assert_eq!(quality.cell(row, "EE length P [m]"), Some("-"));
+    // Percentiles of the planning time (linear interpolation): p25 of [1, 3, 8] = 2.
+    let r = pct.rows.iter().find(|r| r[1] == "planning time [ms]").unwrap();
+    assert_eq!(r[2..], ["3", "1.00", "2.00", "3.00", "5.50", "7.50", "8.00"].map(String::from));
+
+    // The high-score units: one per grasp cell, one per motion scene × planner.
+    let scores = file.scores();
+    assert_eq!(scores.len(), 5);
+    assert_eq!(scores[0].task, "barrett/salt_can");
+    assert_eq!((scores[0].score, scores[0].samples), (70.0, 10));
+    let motion = scores.last().unwrap();
+    assert_eq!((motion.planner.as_str(), motion.task.as_str(), motion.samples), ("P1", "scene A", 3));
+    assert!((motion.score - 200.0 / 3.0).abs() < 1e-9);
+    assert_eq!(motion.secondary, Some(0.003));
+
+    let text = report::render(&file, Format::Table);
+    assert!(text.contains("Table III") && text.contains("Table II") && text.contains("Provenance"));
+}
+
+/// The planar scene without a shared environment (setup per run, one job per run).
+fn per_run_scene() -> opengrasp::motion::benchmark::BenchmarkScene {
+    let mut scene = planar_scene();
+    scene.name = "planar post (per run)".into();
+    scene.shared_environment = false;
+    scene
+}
+
+fn without_timing(mut file: ResultsFile) -> (Option<GraspSection>, Option<MotionSection>) {
+    if let Some(g) = &mut file.grasp {
+        for r in &mut g.cells {
+            r.cell.planning_seconds = 0.0;
+            r.cell.evaluation_seconds = 0.0;
+            r.cell.evaluations_per_second = 0.0;
+        }
+    }
+    if let Some(m) = &mut file.motion {
+        for r in &mut m.runs {
+            r.setup_time = 0.0;
+            r.planning_time = 0.0;
+            r.postprocessing_time = r.postprocessing_time.map(|_| 0.0);
+        }
+        // Summaries aggregate the timing fields; recompute them without.
+        m.summaries = results::motion_summaries(m);
+    }
+    (file.grasp, file.motion)
+}
+
+#[test]
+fn parallel_sweep_equals_serial_sweep() {
+    let suite = |jobs: usize| {
+        Suite::new()
+            .with_reference_grasp(SuiteSize::Tiny)
+            .objects(vec!["salt_can".into(), "white_cup".into()])
+            .motion_planner("defaults", || Box::new(RrtConnect::default()))
+            .motion_planner("nodes = 150", || Box::new(Prm::new(PrmOptions { nodes: 150, ..PrmOptions::default() })))
+            .motion_scene(planar_scene())
+            .motion_scene(per_run_scene())
+            .runs(3)
+            .seed(11)
+            .jobs(jobs)
+    };
+    let serial = suite(1).run().unwrap();
+    let parallel = suite(2).run().unwrap();
+    assert_eq!(serial.provenance.jobs, 1);
+    assert_eq!(parallel.provenance.jobs, 2);
+    let g = serial.grasp.as_ref().unwrap();
+    assert_eq!(g.cells.len(), 4); // 2 objects × 2 planners × 1 hand
+    let m = serial.motion.as_ref().unwrap();
+    assert_eq!(m.runs.len(), 12);
+    assert_eq!(m.runs.iter().map(|r| r.seed).collect::<Vec<_>>(), [11, 12, 13].repeat(4));
+    assert_eq!(m.runs.iter().map(|r| r.run).collect::<Vec<_>>(), [0, 1, 2].repeat(4));
+    assert_eq!(m.summaries.len(), 4);
+    assert!(m.summaries.iter().all(|s| s.runs == 3));
+    // The per-run scene runs setup (PRM's roadmap) for every run, the shared one once.
+    let prm_setups = |scene: &str| {
+        let mut t: Vec<f64> =
+            m.runs.iter().filter(|r| r.scene == scene && r.planner == "PRM").map(|r| r.setup_time).collect();
+        t.dedup();
+        t.len()
+    };
+    assert_eq!(prm_setups("planar post"), 1);
+    assert_eq!(prm_setups("planar post (per run)"), 3);
+    assert!(m.runs.iter().all(|r| r.status == RunStatus::Solved));
+    assert_eq!(without_timing(serial), without_timing(parallel));
+}
+
+#[test]
+fn suite_rejects_bad_options() {
+    assert!(matches!(
+        Suite::standard(SuiteSize::Tiny).retain_planners(&["nope".into()]),
+        Err(Error::InvalidOption { name: "planner", .. })
+    ));
+    assert!(matches!(Suite::new().run(), Err(Error::InvalidOption { name: "suite", .. })));
+    let zero = Suite::new().motion_planner("", || Box::new(RrtConnect::default())).motion_scene(planar_scene()).jobs(0);
+    assert!(matches!(zero.run(), Err(Error::InvalidOption { name: "jobs", .. })));
+    let unknown_object = Suite::new().with_reference_grasp(SuiteSize::Tiny).objects(vec!["anvil".into()]);
+    assert!(matches!(unknown_object.run(), Err(Error::Grasp(_))));
+    let kept = Suite::standard(SuiteSize::Tiny).retain_planners(&["prm".into(), "MEDIAL-AXIS".into()]).unwrap();
+    assert_eq!(kept.planner_names(), vec!["medial-axis".to_string(), "PRM".to_string()]);
+    let hands = Suite::new().with_reference_grasp(SuiteSize::Tiny).hands(vec![BenchmarkHand::Armar3]);
+    assert_eq!(hands.planner_names().len(), 2);
+}
+
+#[test]
+fn command_line_parses() {
+    let cli = Cli::try_parse_from([
+        "opengrasp",
+        "run",
+        "motion",
+        "--runs",
+        "2",
+        "--seed",
+        "3",
+        "--out",
+        "x.json",
+        "--jobs",
+        "2",
+        "--planner",
+        "PRM",
+        "--planner",
+        "RRT-Connect",
+        "--size",
+        "tiny",
+    ])
+    .unwrap();
+    match cli.command {
+        Command::Run(a) => {
+            assert_eq!(a.which, Which::Motion);
+            assert_eq!(a.runs, Some(2));
+            assert_eq!(a.seed, 3);
+            assert_eq!(a.out, PathBuf::from("x.json"));
+            assert_eq!(a.jobs, Some(2));
+            assert_eq!(a.planners, vec!["PRM".to_string(), "RRT-Connect".to_string()]);
+            assert_eq!(a.size, SizeArg::Tiny);
+        }
+        other => panic!("parsed {other:?}"),
+    }
+    let cli = Cli::try_parse_from(["opengrasp", "run", "all"]).unwrap();
+    match cli.command {
+        Command::Run(a) => {
+            assert_eq!((a.which, a.size, a.runs, a.seed), (Which::All, SizeArg::Default, None, 0));
+            assert_eq!(a.out, PathBuf::from("results.json"));
+        }
+        other => panic!("parsed {other:?}"),
+    }
+    match Cli::try_parse_from(["opengrasp", "report", "r.json", "--format", "csv", "--plots", "p", "--ompl", "o"])
+        .unwrap()
+        .command
+    {
+        Command::Report { file, format, plots, ompl } => {
+            assert_eq!(file, PathBuf::from("r.json"));
+            assert_eq!(format, FormatArg::Csv);
+            assert_eq!(plots, Some(PathBuf::from("p")));
+            assert_eq!(ompl, Some(PathBuf::from("o")));
+        }
+        other => panic!("parsed {other:?}"),
+    }
+    assert!(matches!(
+        Cli::try_parse_from(["opengrasp", "list", "objects"]).unwrap().command,
+        Command::List { what: ListWhat::Objects }
+    ));
+    assert!(matches!(
+        Cli::try_parse_from(["opengrasp", "submit", "r.json", "--name", "ann", "--team", "lab"]).unwrap().command,
+        Command::Submit { .. }
+    ));
+    assert!(Cli::try_parse_from(["opengrasp", "highscore", "grasp/barrett"]).is_ok());
+    assert!(Cli::try_parse_from(["opengrasp", "serve", "--addr", "127.0.0.1:0"]).is_ok());
+    assert!(Cli::try_parse_from(["opengrasp", "run", "everything"]).is_err());
+    assert!(Cli::try_parse_from(["opengrasp", "run", "grasp", "--runs", "many"]).is_err());
+    assert!(Cli::try_parse_from(["opengrasp", "report", "r.json", "--format", "xml"]).is_err());
+    assert!(Cli::try_parse_from(["opengrasp", "submit", "r.json"]).is_err()); // --name missing
+}
+
+#[test]
+fn run_motion_end_to_end() {
+    let dir = temp_dir("cli");
+    let out = dir.join("results.json");
+    let cli = Cli::try_parse_from([
+        "opengrasp",
+        "run",
+        "motion",
+        "--size",
+        "tiny",
+        "--runs",
+        "2",
+        "--seed",
+        "4",
+        "--out",
+        out.to_str().unwrap(),
+    ])
+    .unwrap();
+    let Command::Run(args) = cli.command else { panic!("not a run") };
+    let (results, text) = cli::run(&args, false).unwrap();
+    let loaded = ResultsFile::load(&out).unwrap();
+    assert_eq!(loaded, results);
+    assert!(loaded.grasp.is_none());
+    let m = loaded.motion.as_ref().unwrap();
+    assert_eq!(m.planners.iter().map(|p| p.name.as_str()).collect::<Vec<_>>(), vec!["RRT-Connect", "PRM"]);
+    assert_eq!(m.runs.len(), 4);
+    assert_eq!(m.summaries.len(), 2);
+    assert!(m.summaries.iter().all(|s| s.runs == 2 && s.solved == 2));
+    assert_eq!(loaded.provenance.suite_size, "tiny");
+    assert!(text.contains("planar post / PRM"), "{text}");
+
+    // `report --plots --ompl` on the file.
+    let plots = dir.join("plots");
+    let ompl = dir.join("ompl");
+    let cli = Cli::try_parse_from([
+        "opengrasp",
+        "report",
+        out.to_str().unwrap(),
+        "--format",
+        "markdown",
+        "--plots",
+        plots.to_str().unwrap(),
+        "--ompl",
+        ompl.to_str().unwrap(),
+    ])
+    .unwrap();
+    cli::execute(cli).unwrap();
+    for f in ["motion_planar_post_planning_time.svg", "motion_planar_post_length.svg"] {
+        let svg = std::fs::read_to_string(plots.join(f)).unwrap();
+        assert!(svg.starts_with("<svg") && svg.contains("RRT-Connect") && svg.contains("PRM"), "{f}");
+    }
+    let log = std::fs::read_to_string(ompl.join("ompl_planar_post.log")).unwrap();
+    assert!(log.starts_with("OpenGRASP-rs version"));
+
+    // Unknown planners are an error, not an empty run.
+    let bad = RunArgs { planners: vec!["nope".into()], ..args };
+    assert!(matches!(cli::run(&bad, false), Err(Error::InvalidOption { name: "planner", .. })));
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn list_names_everything() {
+    let text = cli::list(ListWhat::All);
+    for item in [
+        "grasp",
+        "motion",
+        "medial-axis",
+        "surface-normals",
+        "RRT-Connect",
+        "PRM",
+        "IK-RRT",
+        "barrett",
+        "armar3",
+        "salt_can",
+        "standard (7-DoF stand-in)",
+    ] {
+        assert!(text.contains(item), "{item} missing in\n{text}");
+    }
+    let objects = cli::list(ListWhat::Objects);
+    assert_eq!(objects.lines().count(), 1 + opengrasp::assets::objects::NAMES.len());
+}
+
+#[test]
+fn grasp_plots_are_svg() {
+    let dir = temp_dir("plots");
+    let written = opengrasp::plots::plot_all(&hand_made(), &dir).unwrap();
+    let names: Vec<String> = written.iter().map(|p| p.file_name().unwrap().to_string_lossy().into_owned()).collect();
+    assert_eq!(names, vec!["grasp_barrett_fc.svg", "motion_scene_a_planning_time.svg", "motion_scene_a_length.svg"]);
+    let svg = std::fs::read_to_string(dir.join("grasp_barrett_fc.svg")).unwrap();
+    assert!(svg.contains("salt_can") && svg.contains("medial-axis") && svg.contains("<rect"));
+    let _ = std::fs::remove_dir_all(dir);
+}
