@@ -604,3 +604,23 @@ mod properties {
         }
     }
 }
+
+#[test]
+fn suite_sizes_are_ranked_as_separate_leagues() {
+    let t = TempDb::new("leagues");
+    let sized = |size: &str, planner: &str, palm: usize, fc: usize| {
+        let mut f = grasp_file(vec![cell(planner, "barrett", "cup", palm, fc, 0.1)]);
+        f.provenance.suite_size = size.into();
+        f
+    };
+    // A tiny run with 100 % must not outrank paper-sized runs; each size has its own ranks.
+    submit_file(&t, &sized("tiny", "lucky", 2, 2), "ann").expect("tiny");
+    submit_file(&t, &sized("default", "mid", 20, 10), "bob").expect("default");
+    submit_file(&t, &sized("paper", "steady", 400, 200), "cy").expect("paper a");
+    submit_file(&t, &sized("paper", "better", 400, 300), "dan").expect("paper b");
+    let r = &highscore::ranking(&t.db(), Some("grasp/barrett")).expect("ranking")[0];
+    let rows: Vec<(&str, usize, &str)> =
+        r.entries.iter().map(|e| (e.suite_size.as_str(), e.rank, e.planner.as_str())).collect();
+    assert_eq!(rows, [("paper", 1, "better"), ("paper", 2, "steady"), ("default", 1, "mid"), ("tiny", 1, "lucky")]);
+    assert!(r.rules.contains("suite size"));
+}

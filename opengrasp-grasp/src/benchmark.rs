@@ -182,9 +182,10 @@ pub struct CellResult {
     pub fc_percent_palm: f64,
     /// Percentage of force closure among all evaluated candidates.
     pub fc_percent_all: f64,
-    /// Mean Ferrari-Canny epsilon over force-closure grasps (0 if none).
+    /// Mean Ferrari-Canny epsilon over the force-closure palm-contact grasps, the set the
+    /// paper's FC column counts (0 if none).
     pub mean_epsilon: f64,
-    /// Median Ferrari-Canny epsilon over force-closure grasps (0 if none).
+    /// Median Ferrari-Canny epsilon over the force-closure palm-contact grasps (0 if none).
     pub median_epsilon: f64,
     /// Grasps sent to the physics check.
     pub physics_tested: usize,
@@ -316,7 +317,7 @@ pub fn run_grasp_benchmark_with(
                     .filter(|&k| evaluations[k].palm_contact && evaluations[k].force_closure())
                     .collect();
                 let fc_all = evaluations.iter().filter(|e| e.force_closure()).count();
-                let mut eps: Vec<f64> = evaluations.iter().filter(|e| e.force_closure()).map(|e| e.epsilon()).collect();
+                let mut eps: Vec<f64> = fc_palm.iter().map(|&k| evaluations[k].epsilon()).collect();
                 eps.sort_by(f64::total_cmp);
                 let mean_epsilon = if eps.is_empty() { 0.0 } else { eps.iter().sum::<f64>() / eps.len() as f64 };
                 let median_epsilon = match eps.len() {

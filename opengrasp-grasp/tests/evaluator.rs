@@ -176,6 +176,9 @@ fn small_benchmark_has_the_paper_table_shape() {
         assert!(c.generated >= 6);
         assert!(c.force_closure_palm <= c.palm_contact && c.palm_contact <= c.evaluated);
         assert!((0.0..=100.0).contains(&c.fc_percent_palm));
+        // Epsilon statistics cover the same grasps as the FC column: none, no epsilon.
+        assert_eq!(c.force_closure_palm == 0, c.mean_epsilon == 0.0, "{c:?}");
+        assert!(c.median_epsilon >= 0.0 && c.median_epsilon <= 1.0);
     }
     let table = results.table("barrett");
     assert!(table.contains("Salt box") && table.contains("408/94.4%"), "{table}");

@@ -20,8 +20,9 @@
 //!
 //! One entry per submission × planner × benchmark, computed from the stored cells and runs
 //! (so every ranking can be recomputed from the database). See [`GRASP_RULES`] and
-//! [`MOTION_RULES`]. Entries equal on every key share a rank (1, 1, 3, ...) and are listed
-//! by submission order.
+//! [`MOTION_RULES`]. Runs of different suite sizes (`paper`, `default`, `custom`, `tiny`) are
+//! not comparable, so each size is ranked as its own league, listed in that order. Entries
+//! equal on every key share a rank (1, 1, 3, ...) and are listed by submission order.
 //!
 //! # Service
 //!
@@ -75,15 +76,17 @@ pub const MAX_RECORDS: usize = 100_000;
 /// Ranking rules of `grasp/<hand>` benchmarks.
 pub const GRASP_RULES: &str = "per submission and planner, pooled over the objects it ran: \
 1. force closure % among palm-contact candidates (sum of force-closure palm grasps / sum of palm-contact candidates), higher first; \
-2. mean Ferrari-Canny epsilon over all force-closure grasps (cell means weighted by their force-closure counts), higher first; \
-3. earlier submission first";
+2. mean Ferrari-Canny epsilon over those force-closure palm-contact grasps (cell means weighted by their counts), higher first; \
+3. earlier submission first; \
+entries are ranked within the suite size they ran (paper, default, custom, tiny): different sizes are not comparable";
 
 /// Ranking rules of `motion/<scene>` benchmarks.
 pub const MOTION_RULES: &str = "per submission and planner: \
 1. success rate % (solved runs / runs), higher first; \
 2. median planning time of the solved runs, lower first (no solved run: last); \
 3. post-processed validity % (solved runs whose post-processed path passes the strict discrete check and, where available, the continuous check), higher first; \
-4. earlier submission first";
+4. earlier submission first; \
+entries are ranked within the suite size they ran (paper, default, custom, tiny): different sizes are not comparable";
 
 /// Id of a stored submission.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
@@ -192,7 +195,7 @@ pub enum EntryMetrics {
         force_closure_palm: u64,
         /// `100 · force_closure_palm / palm_contact` (0 without palm contact).
         fc_percent: f64,
-        /// Mean Ferrari-Canny epsilon over force-closure grasps (0 if none).
+        /// Mean Ferrari-Canny epsilon over the force-closure palm-contact grasps (0 if none).
         mean_epsilon: f64,
     },
     /// A motion planner on one scene.
@@ -520,11 +523,17 @@ pub fn render_rankings(rankings: &[Ranking]) -> String {
         }
         let (head, rows): (Vec<&str>, Vec<Vec<String>>) = match r.benchmark.kind {
             BenchmarkKind::Grasp => (
-                vec!["#", "planner", "submitter", "sub", "FC %", "mean eps", "palm", "objects", "date"],
+                vec!["suite", "#", "planner", "submitter", "sub", "FC %", "mean eps", "palm", "objects", "date"],
                 r.entries
                     .iter()
                     .map(|e| {
-                        let mut row = vec![e.rank.to_string(), e.planner.clone(), who(e), e.submission.0.to_string()];
+                        let mut row = vec![
+                            e.suite_size.clone(),
+                            e.rank.to_string(),
+                            e.planner.clone(),
+                            who(e),
+                            e.submission.0.to_string(),
+                        ];
                         if let EntryMetrics::Grasp { fc_percent, mean_epsilon, palm_contact, objects, .. } = &e.metrics
                         {
                             row.extend([
@@ -540,11 +549,28 @@ pub fn render_rankings(rankings: &[Ranking]) -> String {
                     .collect(),
             ),
             BenchmarkKind::Motion => (
-                vec!["#", "planner", "submitter", "sub", "success %", "median t (s)", "valid pp %", "runs", "date"],
+                vec![
+                    "suite",
+                    "#",
+                    "planner",
+                    "submitter",
+                    "sub",
+                    "success %",
+                    "median t (s)",
+                    "valid pp %",
+                    "runs",
+                    "date",
+                ],
                 r.entries
                     .iter()
                     .map(|e| {
-                        let mut row = vec![e.rank.to_string(), e.planner.clone(), who(e), e.submission.0.to_string()];
+                        let mut row = vec![
+                            e.suite_size.clone(),
+                            e.rank.to_string(),
+                            e.planner.clone(),
+                            who(e),
+                            e.submission.0.to_string(),
+                        ];
                         if let EntryMetrics::Motion {
                             success_rate, median_planning_time, valid_processed, runs, ..
                         } = &e.metrics

@@ -315,12 +315,23 @@ impl Store {
             BenchmarkKind::Grasp => self.grasp_entries(&info.id)?,
             BenchmarkKind::Motion => self.motion_entries(&info.id)?,
         };
-        entries.sort_by(|a, b| a.metrics.compare(&b.metrics).then(a.submission.cmp(&b.submission)));
+        // Runs of different suite sizes are not comparable: each size is its own league.
+        entries.sort_by(|a, b| {
+            suite_size_order(&a.suite_size)
+                .cmp(&suite_size_order(&b.suite_size))
+                .then_with(|| a.suite_size.cmp(&b.suite_size))
+                .then(a.metrics.compare(&b.metrics))
+                .then(a.submission.cmp(&b.submission))
+        });
+        let mut league_start = 0;
         for i in 0..entries.len() {
-            entries[i].rank = if i > 0 && entries[i].metrics.compare(&entries[i - 1].metrics).is_eq() {
+            if i > 0 && entries[i].suite_size != entries[i - 1].suite_size {
+                league_start = i;
+            }
+            entries[i].rank = if i > league_start && entries[i].metrics.compare(&entries[i - 1].metrics).is_eq() {
                 entries[i - 1].rank
             } else {
-                i + 1
+                i - league_start + 1
             };
         }
         let rules = match info.kind {
@@ -380,7 +391,7 @@ impl Store {
     fn grasp_entries(&self, benchmark: &str) -> Result<Vec<RankedEntry>> {
         let mut stmt = self.conn.prepare(
             "SELECT submission_id, planner, COUNT(DISTINCT object), SUM(evaluated), SUM(palm_contact),
-                    SUM(force_closure_palm), SUM(force_closure), SUM(mean_epsilon * force_closure)
+                    SUM(force_closure_palm), SUM(mean_epsilon * force_closure_palm)
              FROM grasp_cells WHERE benchmark_id = ?1 GROUP BY submission_id, planner",
         )?;
         let rows = stmt
@@ -392,20 +403,19 @@ impl Store {
                     r.get::<_, i64>(3)?,
                     r.get::<_, i64>(4)?,
                     r.get::<_, i64>(5)?,
-                    r.get::<_, i64>(6)?,
-                    r.get::<_, f64>(7)?,
+                    r.get::<_, f64>(6)?,
                 ))
             })?
             .collect::<rusqlite::Result<Vec<_>>>()?;
         let mut out = Vec::with_capacity(rows.len());
-        for (sub, planner, objects, evaluated, palm, fc_palm, fc_all, eps_sum) in rows {
+        for (sub, planner, objects, evaluated, palm, fc_palm, eps_sum) in rows {
             let metrics = EntryMetrics::Grasp {
                 objects: objects.max(0) as u64,
                 evaluated: evaluated.max(0) as u64,
                 palm_contact: palm.max(0) as u64,
                 force_closure_palm: fc_palm.max(0) as u64,
                 fc_percent: if palm > 0 { 100.0 * fc_palm as f64 / palm as f64 } else { 0.0 },
-                mean_epsilon: if fc_all > 0 { eps_sum / fc_all as f64 } else { 0.0 },
+                mean_epsilon: if fc_palm > 0 { eps_sum / fc_palm as f64 } else { 0.0 },
             };
             out.push(self.entry_head(sub, BenchmarkKind::Grasp, planner, metrics)?);
         }
@@ -549,4 +559,16 @@ fn insert_runs(
         ])?;
     }
     Ok(())
+}
+
+/// League order of suite sizes on a ranking: the paper-sized suite first, then the default,
+/// custom and tiny ones, then any other name.
+fn suite_size_order(size: &str) -> u8 {
+    match size {
+        "paper" => 0,
+        "default" => 1,
+        "custom" => 2,
+        "tiny" => 3,
+        _ => 4,
+    }
 }
