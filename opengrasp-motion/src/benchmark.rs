@@ -155,6 +155,32 @@ pub struct RunRecord {
 }
 
 impl RunRecord {
+    /// A run that ended with `status` before producing a path: every figure after setup empty.
+    pub fn unfinished(planner: &str, scene: &str, run: usize, seed: u64, status: RunStatus, setup_time: f64) -> Self {
+        Self {
+            planner: planner.to_string(),
+            scene: scene.to_string(),
+            run,
+            seed,
+            status,
+            message: None,
+            setup_time,
+            planning_time: 0.0,
+            postprocessing_time: None,
+            planning_checks: 0,
+            postprocessing_checks: 0,
+            iterations: None,
+            shortcuts: None,
+            repaired_segments: None,
+            unrepaired_segments: None,
+            planned: None,
+            processed: None,
+            final_state: None,
+            ik_position_error: None,
+            ik_orientation_error: None,
+        }
+    }
+
     /// Validity checks per second of planning.
     pub fn checks_per_second(&self) -> Option<f64> {
         (self.planning_time > 0.0).then(|| self.planning_checks as f64 / self.planning_time)
@@ -415,28 +441,7 @@ pub fn run_once(
         seed,
         step: options.validation.step,
     };
-    let mut record = RunRecord {
-        planner: planner.name().to_string(),
-        scene: scene.to_string(),
-        run,
-        seed,
-        status: RunStatus::Error,
-        message: None,
-        setup_time,
-        planning_time: 0.0,
-        postprocessing_time: None,
-        planning_checks: 0,
-        postprocessing_checks: 0,
-        iterations: None,
-        shortcuts: None,
-        repaired_segments: None,
-        unrepaired_segments: None,
-        planned: None,
-        processed: None,
-        final_state: None,
-        ik_position_error: None,
-        ik_orientation_error: None,
-    };
+    let mut record = RunRecord::unfinished(planner.name(), scene, run, seed, RunStatus::Error, setup_time);
     let t0 = Instant::now();
     let result = planner.plan(&problem);
     record.planning_time = t0.elapsed().as_secs_f64();
@@ -515,26 +520,8 @@ pub fn run_benchmark(
             for run in 0..options.runs {
                 let seed = options.seed.wrapping_add(run as u64);
                 let failed = |status, message: String, setup_time| RunRecord {
-                    planner: planner_name.clone(),
-                    scene: scene.name.clone(),
-                    run,
-                    seed,
-                    status,
                     message: Some(message),
-                    setup_time,
-                    planning_time: 0.0,
-                    postprocessing_time: None,
-                    planning_checks: 0,
-                    postprocessing_checks: 0,
-                    iterations: None,
-                    shortcuts: None,
-                    repaired_segments: None,
-                    unrepaired_segments: None,
-                    planned: None,
-                    processed: None,
-                    final_state: None,
-                    ik_position_error: None,
-                    ik_orientation_error: None,
+                    ..RunRecord::unfinished(&planner_name, &scene.name, run, seed, status, setup_time)
                 };
                 let instance = match (scene.generate)(seed) {
                     Ok(i) => i,
