@@ -109,7 +109,7 @@ pub struct RunArgs {
     /// Benchmark to run.
     pub which: Which,
     /// Suite size: `default` (grasp: 8 objects × 2 hands, ≤128 candidates per cell; motion:
-    /// 4 scenes, 20 runs) finishes in a few minutes on two cores in release mode.
+    /// 4 scenes, 20 runs, 1 Clean the Table episode) finishes in a few minutes on two cores.
     #[arg(long, value_enum, default_value = "default")]
     pub size: SizeArg,
     /// Run only these planners (repeatable; names as in `opengrasp list planners`).
@@ -124,6 +124,14 @@ pub struct RunArgs {
     /// Grasp candidates evaluated per cell at most, or `all` (default: the size's).
     #[arg(long)]
     pub max_candidates: Option<String>,
+    /// Force-closure palm-contact grasps per grasp cell sent to the physics hold check
+    /// (rapier; default: the size's, 0 for `tiny`, 2 for `default`, 5 for `paper`).
+    #[arg(long)]
+    pub physics: Option<usize>,
+    /// Clean the Table episodes per motion planner (default: the size's, 0 for `tiny`, 1 for
+    /// `default`, 5 for `paper`).
+    #[arg(long)]
+    pub episodes: Option<usize>,
     /// Results file to write (atomically).
     #[arg(long, default_value = "results.json")]
     pub out: PathBuf,
@@ -218,6 +226,12 @@ pub fn build_suite(args: &RunArgs) -> Result<Suite> {
             })?)
         };
         suite = suite.max_candidates(max);
+    }
+    if let Some(n) = args.physics {
+        suite = suite.physics_per_cell(n);
+    }
+    if let Some(e) = args.episodes {
+        suite = suite.clean_the_table(e);
     }
     if let Some(j) = args.jobs {
         if j == 0 {

@@ -3,12 +3,14 @@
 //!
 //! - [`grasp_tables`]: Tables I and II, one table per hand: per object, the candidates tested
 //!   (grasps with palm contact) and the percentage of force-closure grasps among them for
-//!   every planner (medial axis and surface normals for the reference suite), the paper's
-//!   numbers beside them when known, and a total row.
+//!   every planner (medial axis and surface normals for the reference suite), the mean
+//!   epsilon of those force-closure grasps, the physics hold check (held / tested) when it
+//!   ran, the paper's numbers beside them when known, and a total row.
 //! - [`motion_tables`]: Table III, one row per planner per scene: runs, success, average
 //!   setup / planning / post-processing time, valid % of planned and post-processed paths,
 //!   C-space and end-effector lengths, clearance; plus a table of planning-time and
-//!   path-length percentiles (min, p25, median, p75, p95, max).
+//!   path-length percentiles (min, p25, median, p75, p95, max); and one row per Clean the
+//!   Table episode when they ran.
 //!
 //! All numbers come from the records (motion summaries are recomputed from the runs).
 
@@ -159,12 +161,17 @@ pub fn grasp_tables(g: &GraspSection) -> Vec<Table> {
         let hand_planners: Vec<&str> =
             planners.iter().copied().filter(|p| cells.iter().any(|c| c.planner == *p)).collect();
         let with_paper = |p: &str| PAPER_RESULTS.iter().any(|r| r.1 == hand && r.2 == p);
+        // A physics column (held / tested in the rapier hold check) when the check ran.
+        let with_physics = cells.iter().any(|c| c.physics_tested > 0);
         let mut headers = vec!["object".to_string()];
         for p in &hand_planners {
             let a = abbreviation(p);
             headers.push(format!("{a} tested"));
             headers.push(format!("{a} FC %"));
             headers.push(format!("{a} eps"));
+            if with_physics {
+                headers.push(format!("{a} held"));
+            }
             if with_paper(p) {
                 headers.push(format!("{a} paper tested"));
                 headers.push(format!("{a} paper FC %"));
@@ -180,8 +187,11 @@ pub fn grasp_tables(g: &GraspSection) -> Vec<Table> {
                         row.push(c.palm_contact.to_string());
                         row.push(pct(c.force_closure_palm, c.palm_contact));
                         row.push(format!("{:.4}", c.mean_epsilon));
+                        if with_physics {
+                            row.push(format!("{}/{}", c.physics_held, c.physics_tested));
+                        }
                     }
-                    None => row.extend(std::iter::repeat_n("-".to_string(), 3)),
+                    None => row.extend(std::iter::repeat_n("-".to_string(), 3 + usize::from(with_physics))),
                 }
                 if with_paper(p) {
                     match PAPER_RESULTS.iter().find(|r| r.0 == object && r.1 == hand && r.2 == *p) {
@@ -200,13 +210,18 @@ pub fn grasp_tables(g: &GraspSection) -> Vec<Table> {
             let pc: Vec<_> = cells.iter().filter(|c| c.planner == *p).collect();
             let palm: usize = pc.iter().map(|c| c.palm_contact).sum();
             let fc: usize = pc.iter().map(|c| c.force_closure_palm).sum();
-            let n_fc: usize = pc.iter().map(|c| c.force_closure).sum();
-            let eps = if n_fc == 0 {
+            // Cell epsilons are means over their force-closure palm-contact grasps.
+            let eps = if fc == 0 {
                 0.0
             } else {
-                pc.iter().map(|c| c.mean_epsilon * c.force_closure as f64).sum::<f64>() / n_fc as f64
+                pc.iter().map(|c| c.mean_epsilon * c.force_closure_palm as f64).sum::<f64>() / fc as f64
             };
             total.extend([palm.to_string(), pct(fc, palm), format!("{eps:.4}")]);
+            if with_physics {
+                let tested: usize = pc.iter().map(|c| c.physics_tested).sum();
+                let held: usize = pc.iter().map(|c| c.physics_held).sum();
+                total.push(format!("{held}/{tested}"));
+            }
             if with_paper(p) {
                 let pr: Vec<_> = PAPER_RESULTS
                     .iter()
@@ -314,7 +329,52 @@ pub fn motion_tables(m: &MotionSection) -> Vec<Table> {
         rows.push(stat_row("length post-proc.", &s.length_processed, 1.0, 3));
     }
     let percentiles = Table { title: "Motion planners: percentiles".into(), headers, rows };
-    vec![table3_time, table3_quality, percentiles]
+    let mut tables = vec![table3_time, table3_quality, percentiles];
+    if !m.episodes.is_empty() {
+        tables.push(episode_table(m));
+    }
+    tables
+}
+
+/// One row per Clean the Table episode: objects cleaned, summed times and lengths, validity.
+fn episode_table(m: &MotionSection) -> Table {
+    let headers = [
+        "planner",
+        "episode",
+        "seed",
+        "cleaned",
+        "setup [ms]",
+        "planning [ms]",
+        "post-proc. [s]",
+        "length PP",
+        "EE length PP [m]",
+        "all valid",
+    ]
+    .iter()
+    .map(|h| h.to_string())
+    .collect();
+    let rows = m
+        .episodes
+        .iter()
+        .map(|e| {
+            vec![
+                e.planner.clone(),
+                e.index.to_string(),
+                e.seed.to_string(),
+                match &e.error {
+                    Some(err) => format!("error: {err}"),
+                    None => format!("{}/{}", e.cleaned, e.objects.len()),
+                },
+                format!("{:.2}", e.setup_time * 1e3),
+                format!("{:.2}", e.planning_time * 1e3),
+                format!("{:.2}", e.postprocessing_time),
+                format!("{:.3}", e.length),
+                format!("{:.3}", e.ee_length),
+                if e.all_valid { "yes" } else { "no" }.to_string(),
+            ]
+        })
+        .collect();
+    Table { title: "Scene 3, Clean the Table: episodes (sums over the grasp and place queries)".into(), headers, rows }
 }
 
 /// The provenance as a two-column table.

@@ -247,6 +247,40 @@ pub struct MotionSection {
     pub runs: Vec<RunRecord>,
     /// One summary per scene × planner (recomputable from `runs`).
     pub summaries: Vec<Summary>,
+    /// Clean the Table episodes (their grasp and place queries are in `runs`, scene
+    /// [`opengrasp_motion::clean_table::SCENE_NAME`]); absent from files without any.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub episodes: Vec<EpisodeRecord>,
+}
+
+/// One Clean the Table episode: a planner carrying the red table's objects to the sideboard.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct EpisodeRecord {
+    /// Planner name.
+    pub planner: String,
+    /// Episode index (0-based); its queries are runs `index · 2 · objects ..` of the scene.
+    pub index: usize,
+    /// Seed of the object placement and the queries.
+    pub seed: u64,
+    /// Objects to carry, in order.
+    pub objects: Vec<String>,
+    /// Objects placed on the sideboard.
+    pub cleaned: usize,
+    /// Sum of setup times (s).
+    pub setup_time: f64,
+    /// Sum of planning times (s).
+    pub planning_time: f64,
+    /// Sum of post-processing times (s).
+    pub postprocessing_time: f64,
+    /// Sum of post-processed C-space lengths.
+    pub length: f64,
+    /// Sum of post-processed end-effector lengths (m).
+    pub ee_length: f64,
+    /// True if every post-processed path passed every validator.
+    pub all_valid: bool,
+    /// Why the episode could not run, if it could not (e.g. an asset error).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
 }
 
 /// A results file (see the [module docs](self) for the JSON layout).
@@ -559,6 +593,22 @@ fn validate_motion(m: &MotionSection) -> Result<()> {
         at_most(&f("solved"), s.solved, "runs", s.runs)?;
         if !m.planners.iter().any(|p| p.name == s.planner) {
             return Err(invalid(f("planner"), format!("planner {:?} is not listed in motion.planners", s.planner)));
+        }
+    }
+    for (i, e) in m.episodes.iter().enumerate() {
+        let f = |name: &str| format!("motion.episodes[{i}].{name}");
+        at_most(&f("cleaned"), e.cleaned, "objects", e.objects.len())?;
+        for (name, v) in [
+            ("setup_time", e.setup_time),
+            ("planning_time", e.planning_time),
+            ("postprocessing_time", e.postprocessing_time),
+            ("length", e.length),
+            ("ee_length", e.ee_length),
+        ] {
+            non_negative(&f(name), v)?;
+        }
+        if !m.planners.iter().any(|p| p.name == e.planner) {
+            return Err(invalid(f("planner"), format!("planner {:?} is not listed in motion.planners", e.planner)));
         }
     }
     Ok(())

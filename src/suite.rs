@@ -15,13 +15,19 @@
 //! | size | grasp | motion |
 //! | --- | --- | --- |
 //! | `Tiny` | salt can, Barrett hand, 4 candidates per cell | planar 2-link arm ([`planar_scene`]), RRT-Connect + PRM (200 nodes), 2 runs |
-//! | `Default` | the 8 paper objects × ARMAR-III and Barrett hands, at most 128 candidates per cell (even stride over each planner's list) | the 4 scenes of [`opengrasp_motion::scenes`] (ARMAR-III kitchen standard and IK-based, their 7-DoF stand-ins), RRT-Connect, PRM (600 nodes; 150 on the IK-based scenes, whose setup runs every run), IK-RRT (IK-based scenes only), 20 runs |
-//! | `Paper` | every candidate (Tables I and II) | as `Default` with 100 runs (Table III) |
+//! | `Default` | the 8 paper objects × ARMAR-III and Barrett hands, at most 128 candidates per cell (even stride over each planner's list), physics hold check of 2 force-closure palm grasps per cell | the 4 scenes of [`opengrasp_motion::scenes`] (ARMAR-III kitchen standard and IK-based, their 7-DoF stand-ins), RRT-Connect, PRM (600 nodes; 150 on the IK-based scenes, whose setup runs every run), IK-RRT (IK-based scenes only), 20 runs; 1 Clean the Table episode for RRT-Connect and IK-RRT |
+//! | `Paper` | every candidate (Tables I and II), physics check of 5 grasps per cell | as `Default` with 100 runs (Table III) and 5 Clean the Table episodes |
+//!
+//! Clean the Table (scene 3, [`opengrasp_motion::clean_table`]) runs whole episodes: its
+//! grasp and place queries are filed as runs of [`CLEAN_THE_TABLE_SCENE`] (run
+//! `episode · 8 + 2 · object + {0: grasp, 1: place}`) and each episode as an
+//! [`EpisodeRecord`].
 //!
 //! The default size finishes in a few minutes on two cores in release mode: `opengrasp run
-//! all` took 81 s wall (92 s CPU) on a shared two-core Xeon VM (grasp: 4040 candidates
-//! evaluated in 8 s; motion: 200 runs, dominated by post-processing and the PRM roadmaps).
-//! `SuiteSize::Paper` is the full paper-sized suite.
+//! all` took 91 s wall (164 s CPU) on a shared two-core Xeon VM (grasp: 4040 candidates
+//! evaluated and 51 physics checks; motion: 200 runs, dominated by post-processing and the PRM
+//! roadmaps, and two Clean the Table episodes of about 25 s each, mostly the certified
+//! shortcutting of the 11-DoF paths). `SuiteSize::Paper` is the full paper-sized suite.
 //!
 //! ```
 //! use opengrasp::suite::{planar_scene, Suite};
@@ -46,7 +52,10 @@ use nalgebra::{Isometry3, Vector3};
 use opengrasp_core::model::{samples, JointGroup};
 use opengrasp_grasp::benchmark::{run_grasp_benchmark_with, BenchmarkHand, GraspBenchmarkConfig, PAPER_OBJECTS};
 use opengrasp_grasp::planners::{GraspPlanner, MedialAxisPlanner, SurfaceNormalPlanner};
-use opengrasp_motion::benchmark::{run_benchmark, BenchmarkOptions, BenchmarkScene, RunRecord, SceneInstance, Summary};
+use opengrasp_motion::benchmark::{
+    run_benchmark, BenchmarkOptions, BenchmarkScene, RunRecord, RunStatus, SceneInstance, Summary,
+};
+use opengrasp_motion::clean_table::{clean_the_table, CleanTheTableOptions, TABLE_OBJECTS};
 use opengrasp_motion::planners::{IkRrt, Prm, PrmOptions, RrtConnect};
 use opengrasp_motion::scenes::{armar_ik_scene, armar_standard_scene, ik_scene, standard_scene, CheckerKind};
 use opengrasp_motion::validity::{ObstacleBox, SphereWorld};
@@ -54,8 +63,12 @@ use opengrasp_motion::{Goal, MotionPlanner};
 use rayon::prelude::*;
 
 use crate::results::{
-    Category, Error, GraspRecord, GraspSection, MotionSection, PlannerInfo, Provenance, Result, ResultsFile,
+    Category, EpisodeRecord, Error, GraspRecord, GraspSection, MotionSection, PlannerInfo, Provenance, Result,
+    ResultsFile,
 };
+
+/// Scene name of the Clean the Table queries in the results (scene 3).
+pub const CLEAN_THE_TABLE_SCENE: &str = opengrasp_motion::clean_table::SCENE_NAME;
 
 /// Size of the reference suite (see the [module docs](self) for what each contains).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -85,6 +98,24 @@ impl SuiteSize {
             Self::Tiny => Some(4),
             Self::Default => Some(128),
             Self::Paper => None,
+        }
+    }
+
+    /// Clean the Table episodes per motion planner (none in the tiny suite).
+    pub fn episodes(self) -> usize {
+        match self {
+            Self::Tiny => 0,
+            Self::Default => 1,
+            Self::Paper => 5,
+        }
+    }
+
+    /// Force-closure palm-contact grasps per grasp cell sent to the physics hold check.
+    pub fn physics_per_cell(self) -> usize {
+        match self {
+            Self::Tiny => 0,
+            Self::Default => 2,
+            Self::Paper => 5,
         }
     }
 
@@ -136,6 +167,7 @@ pub struct Suite {
     motion_planners: Vec<MotionEntry>,
     motion_scenes: Vec<BenchmarkScene>,
     motion: BenchmarkOptions,
+    episodes: usize,
     jobs: usize,
     progress: Option<ProgressFn>,
 }
@@ -158,6 +190,7 @@ impl Suite {
             motion_planners: Vec::new(),
             motion_scenes: Vec::new(),
             motion: BenchmarkOptions::default(),
+            episodes: 0,
             jobs: std::thread::available_parallelism().map_or(1, |n| n.get()),
             progress: None,
         }
@@ -183,6 +216,7 @@ impl Suite {
             .grasp_planner(format!("{ma:?}"), MedialAxisPlanner::new(ma))
             .grasp_planner(format!("{sn:?}"), SurfaceNormalPlanner::new(sn));
         self.grasp.max_candidates = size.max_candidates();
+        self.grasp.physics_per_cell = size.physics_per_cell();
         match size {
             SuiteSize::Tiny => {
                 self.grasp.objects = vec!["salt_can".into()];
@@ -200,6 +234,7 @@ impl Suite {
     /// Adds the reference motion planners and scenes for `size` and sets the runs.
     pub fn with_reference_motion(mut self, size: SuiteSize) -> Self {
         self.motion.runs = size.runs();
+        self.episodes = 0;
         match size {
             SuiteSize::Tiny => {
                 let prm = PrmOptions { nodes: 200, ..PrmOptions::default() };
@@ -216,15 +251,23 @@ impl Suite {
                 let ik_scenes = vec![armar_ik_scene(), ik_scene(CheckerKind::Exact)];
                 let ik_names: Vec<String> = ik_scenes.iter().map(|s| s.name.clone()).collect();
                 let prm_names = ik_names.clone();
+                // PRM stays off Clean the Table: its environment changes with every query
+                // (objects move), so a roadmap would be rebuilt per query.
+                let mut prm_scenes: Vec<String> =
+                    vec![armar_standard_scene().name, standard_scene(CheckerKind::Exact).name];
+                prm_scenes.extend(ik_names.iter().cloned());
+                let mut ik_rrt_scenes = ik_names;
+                ik_rrt_scenes.push(CLEAN_THE_TABLE_SCENE.to_string());
                 self = self
                     .motion_planner(format!("{:?}", RrtConnect::default().options), || Box::new(RrtConnect::default()))
-                    .motion_planner_per_scene(
+                    .add_motion(
+                        Some(prm_scenes),
                         format!("{prm:?}; nodes = {} on the IK-based scenes", prm_ik.nodes),
-                        move |scene: &str| {
+                        Box::new(move |scene: &str| {
                             Box::new(Prm::new(if prm_names.iter().any(|n| n == scene) { prm_ik } else { prm }))
-                        },
+                        }),
                     )
-                    .motion_planner_on(ik_names, format!("{:?}", IkRrt::default().options), || {
+                    .motion_planner_on(ik_rrt_scenes, format!("{:?}", IkRrt::default().options), || {
                         Box::new(IkRrt::default())
                     })
                     .motion_scene(armar_standard_scene())
@@ -232,6 +275,7 @@ impl Suite {
                 for s in ik_scenes {
                     self = self.motion_scene(s);
                 }
+                self.episodes = size.episodes();
             }
         }
         self.size_label = size.name().into();
@@ -318,6 +362,22 @@ impl Suite {
         self
     }
 
+    /// Sets the Clean the Table episodes per motion planner (0: none). Each episode carries
+    /// the red table's four objects to the sideboard (scene 3, see
+    /// [`opengrasp_motion::clean_table`]); every motion planner runs them unless it was added
+    /// with [`Suite::motion_planner_on`] without [`CLEAN_THE_TABLE_SCENE`] in its list.
+    pub fn clean_the_table(mut self, episodes: usize) -> Self {
+        self.episodes = episodes;
+        self
+    }
+
+    /// Sets how many force-closure palm-contact grasps per grasp cell go through the
+    /// physics hold check (0: none).
+    pub fn physics_per_cell(mut self, n: usize) -> Self {
+        self.grasp.physics_per_cell = n;
+        self
+    }
+
     /// Sets the motion runs per planner per scene.
     pub fn runs(mut self, runs: usize) -> Self {
         self.motion.runs = runs;
@@ -378,7 +438,11 @@ impl Suite {
 
     /// Names of the motion scenes.
     pub fn scene_names(&self) -> Vec<String> {
-        self.motion_scenes.iter().map(|s| s.name.clone()).collect()
+        let mut names: Vec<String> = self.motion_scenes.iter().map(|s| s.name.clone()).collect();
+        if self.episodes > 0 {
+            names.push(CLEAN_THE_TABLE_SCENE.to_string());
+        }
+        names
     }
 
     /// Runs the suite: the grasp benchmark if it has grasp planners, the motion benchmark if
@@ -391,7 +455,7 @@ impl Suite {
         if self.jobs == 0 {
             return Err(Error::InvalidOption { name: "jobs", reason: "must be at least 1".into() });
         }
-        let has_motion = !self.motion_planners.is_empty() && !self.motion_scenes.is_empty();
+        let has_motion = !self.motion_planners.is_empty() && !self.scene_names().is_empty();
         if self.grasp_planners.is_empty() && !has_motion {
             return Err(Error::InvalidOption { name: "suite", reason: "no planners (or no scenes) to run".into() });
         }
@@ -446,21 +510,24 @@ impl Suite {
     }
 
     fn run_motion(&self) -> MotionSection {
+        let admits =
+            |p: &MotionEntry, scene: &str| p.scenes.as_ref().is_none_or(|names| names.iter().any(|n| n == scene));
         let pairs: Vec<(&BenchmarkScene, &MotionEntry)> = self
             .motion_scenes
             .iter()
-            .flat_map(|s| {
-                self.motion_planners
-                    .iter()
-                    .filter(|p| p.scenes.as_ref().is_none_or(|names| names.contains(&s.name)))
-                    .map(move |p| (s, p))
-            })
+            .flat_map(|s| self.motion_planners.iter().filter(|p| admits(p, &s.name)).map(move |p| (s, p)))
             .collect();
+        let table_planners: Vec<&MotionEntry> = if self.episodes == 0 {
+            Vec::new()
+        } else {
+            self.motion_planners.iter().filter(|p| admits(p, CLEAN_THE_TABLE_SCENE)).collect()
+        };
         // Shared environments: all runs of a pair in one job (the planner's setup, e.g. a PRM
         // roadmap, is reused across them). Otherwise setup runs per run anyway, so every run
-        // is its own job with a fresh planner. The split never depends on `jobs`.
+        // is its own job with a fresh planner. Each Clean the Table episode is a job of its
+        // own. The split never depends on `jobs`.
         let runs = self.motion.runs;
-        let jobs: Vec<(usize, std::ops::Range<usize>)> = pairs
+        let mut jobs: Vec<MotionJob> = pairs
             .iter()
             .enumerate()
             .flat_map(|(k, (scene, _))| {
@@ -469,31 +536,50 @@ impl Suite {
                 } else {
                     (0..runs).map(|r| r..r + 1).collect()
                 };
-                ranges.into_iter().filter(|r| !r.is_empty()).map(move |r| (k, r))
+                ranges.into_iter().filter(|r| !r.is_empty()).map(move |r| MotionJob::Scene(k, r))
             })
             .collect();
-        let total = pairs.len() * runs;
+        for p in 0..table_planners.len() {
+            jobs.extend((0..self.episodes).map(|e| MotionJob::Episode(p, e)));
+        }
+        let total = pairs.len() * runs + table_planners.len() * self.episodes * 2 * TABLE_OBJECTS.len();
         let done = AtomicUsize::new(0);
-        let run_job = |(k, range): &(usize, std::ops::Range<usize>)| {
-            let (scene, entry) = pairs[*k];
-            let options = BenchmarkOptions {
-                runs: range.len(),
-                seed: self.motion.seed.wrapping_add(range.start as u64),
-                ..self.motion.clone()
-            };
-            let mut planners = vec![(entry.factory)(&scene.name)];
-            let mut report = run_benchmark(&mut planners, std::slice::from_ref(scene), &options);
-            for r in &mut report.runs {
-                r.run += range.start;
+        let run_job = |job: &MotionJob| -> (Vec<RunRecord>, Option<EpisodeRecord>) {
+            match job {
+                MotionJob::Scene(k, range) => {
+                    let (scene, entry) = pairs[*k];
+                    let options = BenchmarkOptions {
+                        runs: range.len(),
+                        seed: self.motion.seed.wrapping_add(range.start as u64),
+                        ..self.motion.clone()
+                    };
+                    let mut planners = vec![(entry.factory)(&scene.name)];
+                    let mut report = run_benchmark(&mut planners, std::slice::from_ref(scene), &options);
+                    for r in &mut report.runs {
+                        r.run += range.start;
+                    }
+                    let label = format!("{} on {}", entry.info.name, scene.name);
+                    self.report(Category::Motion, &done, range.len(), total, label);
+                    (report.runs, None)
+                }
+                MotionJob::Episode(p, index) => {
+                    let entry = table_planners[*p];
+                    let (runs, episode) = self.run_episode(entry, *index);
+                    let label = format!("{} on {CLEAN_THE_TABLE_SCENE} #{index}", entry.info.name);
+                    self.report(Category::Motion, &done, 2 * TABLE_OBJECTS.len(), total, label);
+                    (runs, Some(episode))
+                }
             }
-            let label = format!("{} on {}", entry.info.name, scene.name);
-            self.report(Category::Motion, &done, range.len(), total, label);
-            report.runs
         };
-        let per_job: Vec<Vec<RunRecord>> =
+        let per_job: Vec<(Vec<RunRecord>, Option<EpisodeRecord>)> =
             if self.jobs == 1 { jobs.iter().map(run_job).collect() } else { jobs.par_iter().map(run_job).collect() };
-        let all: Vec<RunRecord> = per_job.into_iter().flatten().collect();
-        let summaries = pairs
+        let mut all: Vec<RunRecord> = Vec::new();
+        let mut episodes = Vec::new();
+        for (runs, episode) in per_job {
+            all.extend(runs);
+            episodes.extend(episode);
+        }
+        let mut summaries: Vec<Summary> = pairs
             .iter()
             .map(|(scene, entry)| {
                 let records: Vec<&RunRecord> =
@@ -501,14 +587,90 @@ impl Suite {
                 Summary::from_records(&entry.info.name, &scene.name, &records)
             })
             .collect();
+        for entry in &table_planners {
+            let records: Vec<&RunRecord> =
+                all.iter().filter(|r| r.scene == CLEAN_THE_TABLE_SCENE && r.planner == entry.info.name).collect();
+            summaries.push(Summary::from_records(&entry.info.name, CLEAN_THE_TABLE_SCENE, &records));
+        }
         MotionSection {
             options: self.motion.clone(),
             scenes: self.scene_names(),
             planners: self.motion_planners.iter().map(|p| p.info.clone()).collect(),
             runs: all,
             summaries,
+            episodes,
         }
     }
+
+    /// Runs Clean the Table episode `index` (seed `motion seed + index`) with a fresh planner.
+    /// Its queries become runs `index · 2 · objects + query` of [`CLEAN_THE_TABLE_SCENE`].
+    fn run_episode(&self, entry: &MotionEntry, index: usize) -> (Vec<RunRecord>, EpisodeRecord) {
+        let seed = self.motion.seed.wrapping_add(index as u64);
+        let queries = 2 * TABLE_OBJECTS.len();
+        let mut planner = (entry.factory)(CLEAN_THE_TABLE_SCENE);
+        let options = CleanTheTableOptions {
+            objects: TABLE_OBJECTS.len(),
+            seed,
+            benchmark: BenchmarkOptions { runs: 1, seed, ..self.motion.clone() },
+        };
+        let mut episode = EpisodeRecord {
+            planner: entry.info.name.clone(),
+            index,
+            seed,
+            objects: TABLE_OBJECTS.iter().map(|o| o.to_string()).collect(),
+            cleaned: 0,
+            setup_time: 0.0,
+            planning_time: 0.0,
+            postprocessing_time: 0.0,
+            length: 0.0,
+            ee_length: 0.0,
+            all_valid: false,
+            error: None,
+        };
+        match clean_the_table(planner.as_mut(), &options) {
+            Ok(report) => {
+                let mut runs = Vec::with_capacity(queries);
+                for object in report.objects {
+                    runs.push(object.grasp);
+                    runs.extend(object.place);
+                }
+                for r in &mut runs {
+                    r.scene = CLEAN_THE_TABLE_SCENE.to_string();
+                    r.planner = entry.info.name.clone();
+                    r.run += index * queries;
+                }
+                episode.cleaned = report.cleaned;
+                episode.setup_time = report.total_setup_time;
+                episode.planning_time = report.total_planning_time;
+                episode.postprocessing_time = report.total_postprocessing_time;
+                episode.length = report.total_length;
+                episode.ee_length = report.total_ee_length;
+                episode.all_valid = report.all_valid;
+                (runs, episode)
+            }
+            Err(e) => {
+                let mut run = RunRecord::unfinished(
+                    &entry.info.name,
+                    CLEAN_THE_TABLE_SCENE,
+                    index * queries,
+                    seed,
+                    RunStatus::Error,
+                    0.0,
+                );
+                run.message = Some(e.to_string());
+                episode.error = Some(e.to_string());
+                (vec![run], episode)
+            }
+        }
+    }
+}
+
+/// A unit of parallel motion work.
+enum MotionJob {
+    /// Runs `range` of scene × planner pair `k`.
+    Scene(usize, std::ops::Range<usize>),
+    /// Clean the Table episode `index` of Clean the Table planner `p`.
+    Episode(usize, usize),
 }
 
 /// A small motion scene for tests and examples: the planar two-link arm (0.5 m and 0.4 m

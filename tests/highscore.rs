@@ -150,6 +150,7 @@ fn motion_file(runs: Vec<RunRecord>) -> ResultsFile {
         planners: planners(&names),
         runs,
         summaries: vec![],
+        episodes: vec![],
     });
     f
 }

@@ -127,6 +127,7 @@ fn hand_made() -> ResultsFile {
             run("P1", 2, RunStatus::Timeout, 0.008, 0.0),
         ],
         summaries: Vec::new(),
+        episodes: Vec::new(),
     });
     file
 }
@@ -448,7 +449,13 @@ fn command_line_parses() {
             assert_eq!(a.jobs, Some(2));
             assert_eq!(a.planners, vec!["PRM".to_string(), "RRT-Connect".to_string()]);
             assert_eq!(a.size, SizeArg::Tiny);
+            assert_eq!((a.physics, a.episodes), (None, None));
         }
+        other => panic!("parsed {other:?}"),
+    }
+    let cli = Cli::try_parse_from(["opengrasp", "run", "grasp", "--physics", "3", "--episodes", "0"]).unwrap();
+    match cli.command {
+        Command::Run(a) => assert_eq!((a.physics, a.episodes), (Some(3), Some(0))),
         other => panic!("parsed {other:?}"),
     }
     let cli = Cli::try_parse_from(["opengrasp", "run", "all"]).unwrap();
@@ -562,6 +569,7 @@ fn list_names_everything() {
         "armar3",
         "salt_can",
         "standard (7-DoF stand-in)",
+        "clean the table",
     ] {
         assert!(text.contains(item), "{item} missing in\n{text}");
     }
@@ -578,4 +586,43 @@ fn grasp_plots_are_svg() {
     let svg = std::fs::read_to_string(dir.join("grasp_barrett_fc.svg")).unwrap();
     assert!(svg.contains("salt_can") && svg.contains("medial-axis") && svg.contains("<rect"));
     let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn clean_the_table_episodes_in_the_suite() {
+    use opengrasp::suite::CLEAN_THE_TABLE_SCENE;
+    // A small shortcut budget keeps the test quick; the episode is otherwise the standard one.
+    let mut options = BenchmarkOptions::default();
+    options.shortcut.iterations = 5;
+    let suite = Suite::new()
+        .motion_planner("defaults", || Box::new(RrtConnect::default()))
+        .motion_options(options)
+        .clean_the_table(1)
+        .seed(3);
+    assert_eq!(suite.scene_names(), vec![CLEAN_THE_TABLE_SCENE.to_string()]);
+    let file = suite.run().unwrap();
+    let m = file.motion.as_ref().unwrap();
+    assert_eq!(m.episodes.len(), 1);
+    let e = &m.episodes[0];
+    assert_eq!((e.planner.as_str(), e.index, e.seed, e.error.as_deref()), ("RRT-Connect", 0, 3, None));
+    assert_eq!(e.objects, ["white_cup", "green_cup", "salt_can", "measuring_cup"]);
+    // Grasp and place query per cleaned object, numbered in order, all under one scene.
+    assert_eq!(e.cleaned, 4, "{e:?}");
+    assert_eq!(m.runs.len(), 8);
+    assert!(m.runs.iter().all(|r| r.scene == CLEAN_THE_TABLE_SCENE && r.planner == "RRT-Connect"));
+    assert_eq!(m.runs.iter().map(|r| r.run).collect::<Vec<_>>(), (0..8).collect::<Vec<_>>());
+    assert!(m.runs.iter().all(|r| r.status == RunStatus::Solved));
+    // The episode's sums are the sums of its queries.
+    let planning: f64 = m.runs.iter().map(|r| r.planning_time).sum();
+    assert!((e.planning_time - planning).abs() < 1e-9, "{} vs {planning}", e.planning_time);
+    let length: f64 = m.runs.iter().filter_map(|r| r.processed.as_ref()).map(|p| p.metrics.length).sum();
+    assert!((e.length - length).abs() < 1e-9);
+    assert_eq!(e.all_valid, m.runs.iter().all(|r| r.processed.as_ref().is_some_and(|p| p.validity.strict)));
+    assert_eq!(m.summaries.len(), 1);
+    assert_eq!((m.summaries[0].runs, m.summaries[0].solved), (8, 8));
+    // The file validates, round-trips and reports the episode.
+    let back = ResultsFile::from_json(&file.to_json().unwrap()).unwrap();
+    assert_eq!(back, file);
+    let text = report::render(&file, Format::Table);
+    assert!(text.contains("Clean the Table") && text.contains("4/4"), "{text}");
 }

@@ -27,6 +27,9 @@ use crate::error::{MotionError, Result};
 use crate::problem::{Goal, MotionPlanner, PoseGoal};
 use crate::validity::{CollisionChecker, MotionBound};
 
+/// Scene name under which benchmark harnesses file the queries of Clean the Table episodes.
+pub const SCENE_NAME: &str = "clean the table";
+
 /// The kitchen objects standing on the red table.
 pub const TABLE_OBJECTS: [&str; 4] = ["white_cup", "green_cup", "salt_can", "measuring_cup"];
 

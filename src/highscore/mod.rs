@@ -416,8 +416,9 @@ pub fn slug(name: &str) -> String {
 }
 
 /// The benchmarks every database starts with: one per benchmark hand of
-/// [`opengrasp_grasp::benchmark::BenchmarkHand`], one per scene of [`opengrasp_motion::scenes`]
-/// and the tiny suite's [`planar_scene`](crate::suite::planar_scene).
+/// [`opengrasp_grasp::benchmark::BenchmarkHand`], one per scene of [`opengrasp_motion::scenes`],
+/// Clean the Table ([`CLEAN_THE_TABLE_SCENE`](crate::suite::CLEAN_THE_TABLE_SCENE), ranked per
+/// grasp/place query) and the tiny suite's [`planar_scene`](crate::suite::planar_scene).
 pub fn builtin_benchmarks() -> Vec<BenchmarkInfo> {
     use opengrasp_grasp::benchmark::BenchmarkHand;
     use opengrasp_motion::scenes::{self, CheckerKind};
@@ -439,12 +440,13 @@ pub fn builtin_benchmarks() -> Vec<BenchmarkInfo> {
         scenes::ik_scene(CheckerKind::Exact),
         crate::suite::planar_scene(),
     ];
-    for s in scenes {
+    let names = scenes.into_iter().map(|s| s.name).chain(std::iter::once(crate::suite::CLEAN_THE_TABLE_SCENE.into()));
+    for name in names {
         out.push(BenchmarkInfo {
-            id: format!("motion/{}", slug(&s.name)),
+            id: format!("motion/{}", slug(&name)),
             kind: BenchmarkKind::Motion,
-            description: format!("motion planning in the scene {}", s.name),
-            target: s.name,
+            description: format!("motion planning in the scene {name}"),
+            target: name,
             submissions: 0,
         });
     }
