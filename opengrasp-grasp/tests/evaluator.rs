@@ -137,6 +137,36 @@ fn physics_check_holds_a_force_closure_wrap() {
 }
 
 #[test]
+fn physics_check_armar3_hand_holds_a_6cm_cylinder_but_not_a_fingertip_pinch() {
+    // The ARMAR-III hand wraps a 6 cm cylinder (palm, four fingers, thumb) and holds it
+    // against gravity in every direction. Turned 90° about the approach, only three fingertips
+    // touch (no force closure) and the cylinder falls out.
+    let hand = hands::armar3_hand();
+    let info = hand_info(&hand).unwrap();
+    let object =
+        opengrasp_assets::objects::ObjectModel::from_mesh("can", cylinder_mesh(0.03, 0.2, 32), 0.1, 0.8).unwrap();
+    let mut ev = GraspEvaluator::new(&hand, &object, EvaluatorOptions::default()).unwrap();
+    let wrap = ev.evaluate(&side_grasp(&info)).unwrap();
+    assert!(wrap.force_closure() && wrap.palm_contact, "{wrap:?}");
+    assert!(wrap.fingers_in_contact >= 4, "{wrap:?}");
+    let held = physics_check(&hand, &object, &wrap, &PhysicsCheckOptions::default()).unwrap();
+    assert!(held.held(), "{held:?}");
+    assert!(held.translations.iter().all(|&t| t < 0.005), "{held:?}");
+    let approach = Unit::new_normalize(-Vector3::x());
+    let turned = GraspCandidate {
+        hand_pose: palm_pose(&info, &Point3::origin(), &approach, &Vector3::z()),
+        preshape: Preshape::Default,
+        approach,
+        standoff: 0.0,
+    };
+    let pinch = ev.evaluate(&turned).unwrap();
+    assert!(!pinch.force_closure() && !pinch.palm_contact, "{pinch:?}");
+    let dropped = physics_check(&hand, &object, &pinch, &PhysicsCheckOptions::default()).unwrap();
+    assert!(!dropped.held(), "{dropped:?}");
+    assert!(dropped.translations.iter().any(|&t| t > 0.5), "{dropped:?}");
+}
+
+#[test]
 fn small_benchmark_has_the_paper_table_shape() {
     use opengrasp_grasp::benchmark::{run_grasp_benchmark, BenchmarkHand, GraspBenchmarkConfig, GraspBenchmarkResults};
     let config = GraspBenchmarkConfig {
