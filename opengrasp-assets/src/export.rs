@@ -10,6 +10,7 @@ use opengrasp_core::kinematics::forward_kinematics;
 use opengrasp_core::mesh_io::{self, MeshFormat};
 use opengrasp_core::model::{Geometry, Link, RobotBuilder, Shape, TriangleMesh};
 use opengrasp_core::scene::Scene;
+use opengrasp_core::srdf;
 use opengrasp_core::urdf::{self, ExportOptions};
 
 use crate::error::{AssetError, Result};
@@ -25,13 +26,18 @@ const SEGMENTS: usize = 24;
 pub struct ExportReport {
     /// URDF files of the humanoid, the hands and the objects.
     pub urdfs: Vec<PathBuf>,
+    /// SRDF files (joint groups, allowed collisions) of the humanoid and the hands, next to
+    /// their URDFs.
+    pub srdfs: Vec<PathBuf>,
     /// Stand-alone object meshes (`.stl` and `.obj`).
     pub meshes: Vec<PathBuf>,
     /// The kitchen as one OBJ file.
     pub kitchen_obj: PathBuf,
 }
 
-/// Writes the standard world under `dir`: `robots/armar3.urdf`, `hands/<hand>.urdf`,
+/// Writes the standard world under `dir`: `robots/armar3.urdf` and `.srdf`, `hands/<hand>.urdf`
+/// and `.srdf` (SRDF: joint groups and the allowed-collision matrix, for MoveIt and for
+/// [`opengrasp_core::srdf`]),
 /// `objects/<name>.urdf` (one link with mesh and inertial; meshes as exact OBJ under
 /// `objects/meshes/`), `objects/<name>.stl` and `.obj`, and `kitchen.obj`.
 ///
@@ -40,9 +46,12 @@ pub struct ExportReport {
 pub fn export_to(dir: impl AsRef<Path>) -> Result<ExportReport> {
     let dir = dir.as_ref();
     let mut report = ExportReport::default();
-    report.urdfs.push(urdf::export(&robots::armar3(), &dir.join("robots"))?);
+    let armar = robots::armar3();
+    report.urdfs.push(urdf::export(&armar, &dir.join("robots"))?);
+    report.srdfs.push(srdf::export(&armar, &dir.join("robots"))?);
     for h in [hands::barrett(), hands::armar3_hand(), hands::sdh()] {
         report.urdfs.push(urdf::export(h.robot(), &dir.join("hands"))?);
+        report.srdfs.push(srdf::export(h.robot(), &dir.join("hands"))?);
     }
     let obj_dir = dir.join("objects");
     let exact = ExportOptions { mesh_format: MeshFormat::Obj, ..ExportOptions::default() };

@@ -17,7 +17,8 @@
 //! * [`scenes::kitchen`] — the kitchen (walls, floor, counter with sink, wall cabinets,
 //!   fridge, the red table and green sideboard of "Clean the Table") with the objects and the
 //!   humanoid at named locations, and [`scenes::table_top`] for grasp benchmarks;
-//! * [`export`] — URDF, STL and OBJ files of all of it for other tools.
+//! * [`export`] — URDF (with SRDF for groups and allowed collisions), STL and OBJ files of all
+//!   of it for other tools (any URDF viewer, MuJoCo, MoveIt).
 //!
 //! Everything stock can be swapped for the user's own: [`objects::ObjectModel::from_mesh`]
 //! wraps any closed mesh (e.g. read with `opengrasp_core::mesh_io`), [`hands::Hand::from_robot`]

@@ -19,17 +19,34 @@ fn export_writes_reloadable_urdfs_and_meshes() {
     let report = export::export_to(&dir).unwrap();
     assert_eq!(report.urdfs.len(), 1 + 3 + 9);
     assert_eq!(report.meshes.len(), 2 * 9);
-    let armar = urdf::load_file(&report.urdfs[0]).unwrap();
+    assert_eq!(report.srdfs.len(), 1 + 3);
+    let mut armar = urdf::load_file(&report.urdfs[0]).unwrap();
     let stock = robots::armar3();
+    // URDF + SRDF: the same joint groups and allowed-collision matrix as the stock model.
+    let srdf = opengrasp_core::srdf::Srdf::load_file(&report.srdfs[0]).unwrap();
+    let applied = srdf.apply(&mut armar).unwrap();
+    assert_eq!(applied.groups.len(), stock.groups().len());
+    assert_eq!(armar.groups(), stock.groups());
+    let pairs = |r: &opengrasp_core::model::Robot| {
+        let mut p: Vec<_> = r.allowed_collision_pairs().collect();
+        p.sort();
+        p
+    };
+    assert_eq!(pairs(&armar), pairs(&stock));
+    assert!(armar.group("hip_right_arm").is_ok());
     assert_eq!(armar.dof(), stock.dof());
     assert_eq!(armar.links().len(), stock.links().len());
     let names: Vec<&str> = armar.joints().iter().map(|j| j.name.as_str()).collect();
     let stock_names: Vec<&str> = stock.joints().iter().map(|j| j.name.as_str()).collect();
     assert_eq!(names, stock_names);
-    for (path, hand) in report.urdfs[1..4].iter().zip([hands::barrett(), hands::armar3_hand(), hands::sdh()]) {
-        let r = urdf::load_file(path).unwrap();
+    let hands = [hands::barrett(), hands::armar3_hand(), hands::sdh()];
+    for ((path, srdf), hand) in report.urdfs[1..4].iter().zip(&report.srdfs[1..]).zip(hands) {
+        let mut r = urdf::load_file(path).unwrap();
         assert_eq!(r.dof(), hand.robot().dof());
         assert_eq!(r.links().len(), hand.robot().links().len());
+        opengrasp_core::srdf::Srdf::load_file(srdf).unwrap().apply(&mut r).unwrap();
+        assert_eq!(pairs(&r), pairs(hand.robot()), "{}", path.display());
+        assert_eq!(r.groups(), hand.robot().groups());
     }
     // Objects: exact OBJ meshes inside the URDFs, and stand-alone OBJs, read back identically.
     for (path, o) in report.urdfs[4..].iter().zip(objects::all()) {

@@ -15,6 +15,12 @@ pub enum CoreError {
         /// What is wrong with it.
         reason: String,
     },
+    /// The SRDF text could not be parsed or names something inconsistent.
+    #[error("malformed srdf: {reason}")]
+    MalformedSrdf {
+        /// What is wrong with it.
+        reason: String,
+    },
     /// A mesh file referenced by a robot or object could not be found or read.
     #[error("mesh not found: {}", path.display())]
     MeshNotFound {

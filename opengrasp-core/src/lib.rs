@@ -1,7 +1,8 @@
 //! # opengrasp-core
 //!
 //! The machinery every OpenGRASP-rs benchmark stands on, with no knowledge of grasping or
-//! planning: robot models ([`model`]) built in code or loaded from URDF ([`urdf`]), forward and
+//! planning: robot models ([`model`]) built in code or loaded from URDF ([`urdf`]) with joint
+//! groups and allowed collisions from SRDF ([`srdf`]), forward and
 //! inverse kinematics ([`kinematics`]), scenes ([`scene`]), collision, distance and contact
 //! queries on parry3d ([`collision`]), and the [`physics::PhysicsEngine`] trait with a rapier
 //! backend and a deterministic mock.
@@ -18,6 +19,7 @@ pub mod mesh_io;
 pub mod model;
 pub mod physics;
 pub mod scene;
+pub mod srdf;
 pub mod urdf;
 
 pub use error::{CoreError, Result};

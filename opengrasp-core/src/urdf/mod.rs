@@ -26,7 +26,8 @@
 //!   time and exported meshes are written already scaled. Binary STL export rounds vertices to
 //!   `f32`; choose [`crate::mesh_io::MeshFormat::Obj`] in [`ExportOptions`] for exact meshes.
 //! - Not represented in URDF, so not exported: joint groups and explicitly allowed collision
-//!   pairs (SRDF material), velocity/effort limits of continuous joints, materials.
+//!   pairs (written and read as SRDF by [`crate::srdf`]), velocity/effort limits of continuous
+//!   joints, materials.
 //!
 //! ```
 //! use opengrasp_core::urdf::{self, InMemoryResolver};
@@ -58,6 +59,7 @@ mod writer;
 
 pub use reader::{from_str, from_urdf_rs, load_file};
 pub use resolver::{FileResolver, InMemoryResolver, MeshResolver};
+pub(crate) use writer::write_atomically;
 pub use writer::{export, export_with, to_urdf_string, ExportOptions, UrdfDocument};
 
 /// The URDF parser used here, re-exported for [`from_urdf_rs`] and `TryFrom<&urdf_rs::Robot>`.

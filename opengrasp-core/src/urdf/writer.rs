@@ -158,7 +158,7 @@ fn shape(out: &mut String, tag: &str, s: &Shape, files: &mut MeshFiles<'_>, stem
 /// already scaled. Capsules are written as `<capsule radius length>` elements, which urdf-rs
 /// (and so [`super::from_str`]) reads but ROS urdfdom ignores. Infinite velocity or effort limits
 /// are written as `inf` (read by urdf-rs, not by urdfdom). Joint groups and allowed collision
-/// pairs have no URDF representation (they belong in SRDF) and are not written.
+/// pairs have no URDF representation: [`crate::srdf::export`] writes them as SRDF.
 pub fn to_urdf_string(robot: &Robot, options: &ExportOptions) -> UrdfDocument {
     let mut files = MeshFiles { options, by_ptr: HashMap::new(), names: HashSet::new(), files: Vec::new() };
     let mut out = String::from("<?xml version=\"1.0\"?>\n");
@@ -236,7 +236,7 @@ pub fn export(robot: &Robot, dir: &Path) -> Result<PathBuf> {
     export_with(robot, dir, &ExportOptions::default())
 }
 
-fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
+pub(crate) fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     let io = |source| CoreError::Io { path: path.to_path_buf(), source };
     if let Some(parent) = path.parent() {
         std::fs::create_dir_all(parent).map_err(io)?;
