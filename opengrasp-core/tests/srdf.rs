@@ -122,3 +122,33 @@ fn bad_documents_are_typed_errors_and_change_nothing() {
     assert!(matches!(err, CoreError::MalformedSrdf { ref reason } if reason.contains("does not descend")), "{err}");
     assert!(matches!(Srdf::load_file("/nonexistent/robot.srdf"), Err(CoreError::Io { .. })));
 }
+
+mod properties {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+        /// Truncated or corrupted SRDF text parses and applies to a result, never a panic;
+        /// a failed apply leaves the robot as it was.
+        #[test]
+        fn truncated_or_corrupted_srdf(cut in 0usize..2000, pos in 0usize..2000, byte in b' '..b'~') {
+            let arm = samples::seven_dof_arm().unwrap();
+            let text = Srdf::from_robot(&arm).to_xml();
+            let mut bytes = text.clone().into_bytes();
+            let pos = pos.min(bytes.len() - 1);
+            bytes[pos] = byte;
+            let corrupted = String::from_utf8(bytes).unwrap();
+            for doc in [&text[..cut.min(text.len())], corrupted.as_str()] {
+                if let Ok(srdf) = Srdf::parse(doc) {
+                    let mut robot = urdf_only(&arm);
+                    let before = pairs(&robot);
+                    if srdf.apply(&mut robot).is_err() {
+                        prop_assert!(robot.groups().is_empty() && pairs(&robot) == before);
+                    }
+                }
+            }
+        }
+    }
+}
