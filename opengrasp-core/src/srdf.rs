@@ -2,7 +2,7 @@
 //! the allowed-collision matrix that URDF has no place for.
 //!
 //! - [`Srdf::parse`] / [`Srdf::load_file`] read SRDF text; [`Srdf::apply`] turns its groups
-//!   into [`JointGroup`]s of a [`Robot`] and its `<disable_collisions>` into allowed pairs.
+//!   into [`JointGroup`](crate::model::JointGroup)s of a [`Robot`] and its `<disable_collisions>` into allowed pairs.
 //! - [`Srdf::from_robot`] / [`Srdf::to_xml`] / [`export`] write a robot's groups and allowed
 //!   pairs (adjacent pairs included, reason `Adjacent`, since MoveIt does not assume them), so
 //!   URDF + SRDF reload to the same model and MoveIt gets the same collision matrix.

@@ -171,7 +171,7 @@ impl Joint {
     }
 }
 
-/// Description of a joint for [`RobotBuilder::add_joint`], using link and joint names.
+/// Description of a joint for [`RobotBuilder::joint`], using link and joint names.
 #[derive(Clone, Debug, PartialEq)]
 pub struct JointSpec {
     /// Unique name.

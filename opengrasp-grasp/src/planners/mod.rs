@@ -22,8 +22,8 @@ use serde::{Deserialize, Serialize};
 
 /// What a planner may know about the hand: its name, palm-frame axes, preshapes and size.
 ///
-/// All directions are expressed in the hand's palm frame. The evaluator's hand model
-/// ([`crate::evaluator::GraspHand`]) produces this with [`crate::evaluator::GraspHand::info`].
+/// All directions are expressed in the hand's palm frame. [`crate::evaluator::hand_info`] (or
+/// [`crate::evaluator::GraspEvaluator::hand_info`]) produces this from an asset hand.
 #[derive(Clone, Debug, PartialEq)]
 pub struct HandInfo {
     /// The hand's name (e.g. `"barrett"`).
