@@ -1,6 +1,10 @@
 //! Motion results in OMPL's benchmark log format, for `ompl_benchmark_statistics.py` and
 //! Planner Arena.
 //!
+//! The tests load the logs with OMPL's own reader (`ompl_benchmark_statistics.py` of the `ompl`
+//! 2.0.1 wheel, vendored in `tests/data/ompl`) and compare the database it builds with the
+//! recorded runs.
+//!
 //! OMPL logs one experiment (one planning problem) per file, so [`write_log`] writes one scene
 //! of a [`MotionSection`]; [`logs`] gives one log per scene. The grammar follows OMPL's
 //! `Benchmark::saveResultsToStream` (OMPL 1.x):

@@ -305,3 +305,73 @@ fn log_values_never_break_the_line_format() {
     let empty = ompl::write_log(motion, "elsewhere", &results.provenance);
     assert_eq!(parse(&empty).planners.len(), 0);
 }
+
+/// OMPL's own reader (`ompl_benchmark_statistics.py` from the `ompl` wheel, vendored under
+/// `tests/data/ompl`) loads the logs into its SQLite database with the values we recorded.
+#[test]
+fn ompl_benchmark_statistics_loads_the_logs() {
+    let python = std::env::var("PYTHON").unwrap_or_else(|_| "python3".into());
+    if std::process::Command::new(&python).arg("--version").output().is_err() {
+        eprintln!("skipped: {python} not found (set PYTHON to a Python 3 interpreter)");
+        return;
+    }
+    let results = tiny_results();
+    let motion = results.motion.as_ref().unwrap();
+    let dir = std::env::temp_dir().join(format!("opengrasp-ompl-stats-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut logs = Vec::new();
+    for (name, text) in ompl::logs(motion, &results.provenance) {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        logs.push(path);
+    }
+    let db = dir.join("benchmark.db");
+    let scripts = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/ompl");
+    let out = std::process::Command::new(&python)
+        .arg(scripts.join("ompl_benchmark_statistics.py"))
+        .args(&logs)
+        .arg("-d")
+        .arg(&db)
+        .env("PYTHONPATH", &scripts)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}\n{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+
+    let conn = rusqlite::Connection::open(&db).unwrap();
+    let experiment: (String, f64, i64) = conn
+        .query_row("SELECT name, timelimit, runcount FROM experiments", [], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)))
+        .unwrap();
+    assert_eq!(experiment, ("planar_post".to_string(), 10.0, 3));
+    let planners: Vec<String> = conn
+        .prepare("SELECT name FROM plannerConfigs ORDER BY id")
+        .unwrap()
+        .query_map([], |r| r.get(0))
+        .unwrap()
+        .collect::<Result<_, _>>()
+        .unwrap();
+    assert_eq!(planners, ["RRT-Connect", "PRM"]);
+    // Every run, with its planning time, seed and post-processed length as recorded.
+    let mut stmt = conn
+        .prepare(
+            "SELECT p.name, r.run, r.seed, r.time, r.solved, r.simplified_solution_length, r.collision_checks
+             FROM runs r JOIN plannerConfigs p ON r.plannerid = p.id ORDER BY r.id",
+        )
+        .unwrap();
+    type Row = (String, i64, i64, f64, i64, Option<f64>, Option<i64>);
+    let rows: Vec<Row> = stmt
+        .query_map([], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?, r.get(3)?, r.get(4)?, r.get(5)?, r.get(6)?)))
+        .unwrap()
+        .collect::<Result<_, _>>()
+        .unwrap();
+    assert_eq!(rows.len(), motion.runs.len());
+    for (row, run) in rows.iter().zip(&motion.runs) {
+        assert_eq!((row.0.as_str(), row.1, row.2), (run.planner.as_str(), run.run as i64, run.seed as i64));
+        assert!((row.3 - run.planning_time).abs() <= 1e-9 * run.planning_time.max(1.0), "{row:?}");
+        assert_eq!(row.4, i64::from(run.status == RunStatus::Solved));
+        let length = run.processed.as_ref().map(|p| p.metrics.length);
+        assert!(row.5.zip(length).is_some_and(|(a, b)| (a - b).abs() < 1e-9), "{row:?} vs {length:?}");
+        assert_eq!(row.6, Some(run.planning_checks as i64));
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
