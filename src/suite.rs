@@ -24,7 +24,7 @@
 //! [`EpisodeRecord`].
 //!
 //! The default size finishes in a few minutes on two cores in release mode: `opengrasp run
-//! all` took 91 s wall (164 s CPU) on a shared two-core Xeon VM (grasp: 4040 candidates
+//! all` took 97 s wall (176 s CPU) on a shared two-core Xeon VM (grasp: 4040 candidates
 //! evaluated and 51 physics checks; motion: 200 runs, dominated by post-processing and the PRM
 //! roadmaps, and two Clean the Table episodes of about 25 s each, mostly the certified
 //! shortcutting of the 11-DoF paths). `SuiteSize::Paper` is the full paper-sized suite.
