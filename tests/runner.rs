@@ -626,3 +626,40 @@ fn clean_the_table_episodes_in_the_suite() {
     let text = report::render(&file, Format::Table);
     assert!(text.contains("Clean the Table") && text.contains("4/4"), "{text}");
 }
+
+#[test]
+fn run_grasp_with_physics_checks_end_to_end() {
+    let dir = temp_dir("cli-physics");
+    let out = dir.join("results.json");
+    let run = |physics: &str| {
+        let cli = Cli::try_parse_from([
+            "opengrasp",
+            "run",
+            "grasp",
+            "--size",
+            "tiny",
+            "--physics",
+            physics,
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .unwrap();
+        let Command::Run(args) = cli.command else { panic!("not a run") };
+        cli::run(&args, false).unwrap().0
+    };
+    let checked = run("2");
+    let cells = &checked.grasp.as_ref().unwrap().cells;
+    // The tiny suite's medial-axis cell has two force-closure palm grasps: both are simulated.
+    let ma = cells.iter().find(|c| c.cell.planner == "medial-axis").unwrap();
+    assert_eq!((ma.cell.force_closure_palm, ma.cell.physics_tested), (2, 2), "{:?}", ma.cell);
+    assert!(cells
+        .iter()
+        .all(|c| c.cell.physics_held <= c.cell.physics_tested
+            && c.cell.physics_tested <= c.cell.force_closure_palm.min(2)));
+    let text = report::render(&checked, Format::Table);
+    assert!(text.contains("MA held"), "{text}");
+    let unchecked = run("0");
+    assert!(unchecked.grasp.unwrap().cells.iter().all(|c| c.cell.physics_tested == 0));
+    let _ = std::fs::remove_dir_all(&dir);
+}
