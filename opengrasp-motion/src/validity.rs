@@ -71,47 +71,33 @@ pub trait StateValidityChecker {
     }
 }
 
-impl<T: StateValidityChecker + ?Sized> StateValidityChecker for &T {
-    fn dim(&self) -> usize {
-        (**self).dim()
-    }
-    fn is_valid(&self, q: &[f64]) -> bool {
-        (**self).is_valid(q)
-    }
-    fn clearance(&self, q: &[f64]) -> Option<f64> {
-        (**self).clearance(q)
-    }
-    fn link_distances(&self, q: &[f64], out: &mut Vec<f64>) -> bool {
-        (**self).link_distances(q, out)
-    }
-    fn motion_bound(&self) -> Option<&MotionBound> {
-        (**self).motion_bound()
-    }
-    fn ccd_covers_self_collision(&self) -> bool {
-        (**self).ccd_covers_self_collision()
-    }
+/// Forwards every method of [`StateValidityChecker`] through a pointer type.
+macro_rules! forward_checker {
+    ($($pointer:ty),*) => {$(
+        impl<T: StateValidityChecker + ?Sized> StateValidityChecker for $pointer {
+            fn dim(&self) -> usize {
+                (**self).dim()
+            }
+            fn is_valid(&self, q: &[f64]) -> bool {
+                (**self).is_valid(q)
+            }
+            fn clearance(&self, q: &[f64]) -> Option<f64> {
+                (**self).clearance(q)
+            }
+            fn link_distances(&self, q: &[f64], out: &mut Vec<f64>) -> bool {
+                (**self).link_distances(q, out)
+            }
+            fn motion_bound(&self) -> Option<&MotionBound> {
+                (**self).motion_bound()
+            }
+            fn ccd_covers_self_collision(&self) -> bool {
+                (**self).ccd_covers_self_collision()
+            }
+        }
+    )*};
 }
 
-impl<T: StateValidityChecker + ?Sized> StateValidityChecker for Box<T> {
-    fn dim(&self) -> usize {
-        (**self).dim()
-    }
-    fn is_valid(&self, q: &[f64]) -> bool {
-        (**self).is_valid(q)
-    }
-    fn clearance(&self, q: &[f64]) -> Option<f64> {
-        (**self).clearance(q)
-    }
-    fn link_distances(&self, q: &[f64], out: &mut Vec<f64>) -> bool {
-        (**self).link_distances(q, out)
-    }
-    fn motion_bound(&self) -> Option<&MotionBound> {
-        (**self).motion_bound()
-    }
-    fn ccd_covers_self_collision(&self) -> bool {
-        (**self).ccd_covers_self_collision()
-    }
-}
+forward_checker!(&T, Box<T>);
 
 /// A checker that accepts every configuration of the given dimension (free space).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -523,73 +523,39 @@ pub fn render_rankings(rankings: &[Ranking]) -> String {
             let _ = writeln!(out, "   no submissions yet");
             continue;
         }
-        let (head, rows): (Vec<&str>, Vec<Vec<String>>) = match r.benchmark.kind {
-            BenchmarkKind::Grasp => (
-                vec!["suite", "#", "planner", "submitter", "sub", "FC %", "mean eps", "palm", "objects", "date"],
-                r.entries
-                    .iter()
-                    .map(|e| {
-                        let mut row = vec![
-                            e.suite_size.clone(),
-                            e.rank.to_string(),
-                            e.planner.clone(),
-                            who(e),
-                            e.submission.0.to_string(),
-                        ];
-                        if let EntryMetrics::Grasp { fc_percent, mean_epsilon, palm_contact, objects, .. } = &e.metrics
-                        {
-                            row.extend([
-                                fmt_f(*fc_percent, 1),
-                                fmt_f(*mean_epsilon, 4),
-                                palm_contact.to_string(),
-                                objects.to_string(),
-                            ]);
-                        }
-                        row.push(e.submitted_at.chars().take(10).collect());
-                        row
-                    })
-                    .collect(),
-            ),
-            BenchmarkKind::Motion => (
-                vec![
-                    "suite",
-                    "#",
-                    "planner",
-                    "submitter",
-                    "sub",
-                    "success %",
-                    "median t (s)",
-                    "valid pp %",
-                    "runs",
-                    "date",
-                ],
-                r.entries
-                    .iter()
-                    .map(|e| {
-                        let mut row = vec![
-                            e.suite_size.clone(),
-                            e.rank.to_string(),
-                            e.planner.clone(),
-                            who(e),
-                            e.submission.0.to_string(),
-                        ];
-                        if let EntryMetrics::Motion {
-                            success_rate, median_planning_time, valid_processed, runs, ..
-                        } = &e.metrics
-                        {
-                            row.extend([
-                                fmt_f(*success_rate, 1),
-                                median_planning_time.map_or_else(|| "-".to_string(), |t| fmt_f(t, 4)),
-                                fmt_f(*valid_processed, 1),
-                                runs.to_string(),
-                            ]);
-                        }
-                        row.push(e.submitted_at.chars().take(10).collect());
-                        row
-                    })
-                    .collect(),
-            ),
+        let metric_heads: [&str; 4] = match r.benchmark.kind {
+            BenchmarkKind::Grasp => ["FC %", "mean eps", "palm", "objects"],
+            BenchmarkKind::Motion => ["success %", "median t (s)", "valid pp %", "runs"],
         };
+        let mut head = vec!["suite", "#", "planner", "submitter", "sub"];
+        head.extend(metric_heads);
+        head.push("date");
+        let rows: Vec<Vec<String>> = r
+            .entries
+            .iter()
+            .map(|e| {
+                let mut row = vec![
+                    e.suite_size.clone(),
+                    e.rank.to_string(),
+                    e.planner.clone(),
+                    who(e),
+                    e.submission.0.to_string(),
+                ];
+                row.extend(match &e.metrics {
+                    EntryMetrics::Grasp { fc_percent, mean_epsilon, palm_contact, objects, .. } => {
+                        [fmt_f(*fc_percent, 1), fmt_f(*mean_epsilon, 4), palm_contact.to_string(), objects.to_string()]
+                    }
+                    EntryMetrics::Motion { success_rate, median_planning_time, valid_processed, runs, .. } => [
+                        fmt_f(*success_rate, 1),
+                        median_planning_time.map_or_else(|| "-".to_string(), |t| fmt_f(t, 4)),
+                        fmt_f(*valid_processed, 1),
+                        runs.to_string(),
+                    ],
+                });
+                row.push(e.submitted_at.chars().take(10).collect());
+                row
+            })
+            .collect();
         let mut widths: Vec<usize> = head.iter().map(|h| h.chars().count()).collect();
         for row in &rows {
             for (w, cell) in widths.iter_mut().zip(row) {
