@@ -115,6 +115,10 @@ pub struct RunArgs {
     /// Run only these planners (repeatable; names as in `opengrasp list planners`).
     #[arg(long = "planner")]
     pub planners: Vec<String>,
+    /// Run only these motion scenes (repeatable; names as in `opengrasp list scenes`, e.g.
+    /// `"standard (ARMAR-III kitchen)"` or `"clean the table"`).
+    #[arg(long = "scene")]
+    pub scenes: Vec<String>,
     /// Motion runs per planner per scene (default: the size's).
     #[arg(long)]
     pub runs: Option<usize>,
@@ -241,6 +245,9 @@ pub fn build_suite(args: &RunArgs) -> Result<Suite> {
     }
     if !args.planners.is_empty() {
         suite = suite.retain_planners(&args.planners)?;
+    }
+    if !args.scenes.is_empty() {
+        suite = suite.retain_scenes(&args.scenes)?;
     }
     Ok(suite)
 }

@@ -427,6 +427,29 @@ impl Suite {
         Ok(self)
     }
 
+    /// Keeps only the motion scenes whose name matches one of `names` (ASCII
+    /// case-insensitive; [`CLEAN_THE_TABLE_SCENE`] keeps or drops the Clean the Table
+    /// episodes).
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] naming the unknown scenes if a name matches none.
+    pub fn retain_scenes(mut self, names: &[String]) -> Result<Self> {
+        let known = self.scene_names();
+        let unknown: Vec<&String> = names.iter().filter(|x| !known.iter().any(|k| k.eq_ignore_ascii_case(x))).collect();
+        if !unknown.is_empty() {
+            return Err(Error::InvalidOption {
+                name: "scene",
+                reason: format!("unknown scene(s) {unknown:?}; known: {known:?}"),
+            });
+        }
+        let matches = |n: &str| names.iter().any(|x| x.eq_ignore_ascii_case(n));
+        self.motion_scenes.retain(|s| matches(&s.name));
+        if !matches(CLEAN_THE_TABLE_SCENE) {
+            self.episodes = 0;
+        }
+        Ok(self)
+    }
+
     /// Names of the planners in the suite (grasp, then motion).
     pub fn planner_names(&self) -> Vec<String> {
         self.grasp_planners

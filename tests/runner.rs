@@ -416,6 +416,14 @@ fn suite_rejects_bad_options() {
     assert_eq!(kept.planner_names(), vec!["medial-axis".to_string(), "PRM".to_string()]);
     let hands = Suite::new().with_reference_grasp(SuiteSize::Tiny).hands(vec![BenchmarkHand::Armar3]);
     assert_eq!(hands.planner_names().len(), 2);
+    // Scene filters: exact names (any case), Clean the Table included or not, unknown rejected.
+    let standard = || Suite::standard(SuiteSize::Default);
+    assert_eq!(standard().scene_names().len(), 5);
+    let one = standard().retain_scenes(&["STANDARD (ARMAR-III kitchen)".into()]).unwrap();
+    assert_eq!(one.scene_names(), ["standard (ARMAR-III kitchen)"]);
+    let table = standard().retain_scenes(&["clean the table".into()]).unwrap();
+    assert_eq!(table.scene_names(), ["clean the table"]);
+    assert!(matches!(standard().retain_scenes(&["attic".into()]), Err(Error::InvalidOption { name: "scene", .. })));
 }
 
 #[test]
@@ -455,7 +463,16 @@ fn command_line_parses() {
     }
     let cli = Cli::try_parse_from(["opengrasp", "run", "grasp", "--physics", "3", "--episodes", "0"]).unwrap();
     match cli.command {
-        Command::Run(a) => assert_eq!((a.physics, a.episodes), (Some(3), Some(0))),
+        Command::Run(a) => {
+            assert_eq!((a.physics, a.episodes), (Some(3), Some(0)));
+            assert!(a.scenes.is_empty());
+        }
+        other => panic!("parsed {other:?}"),
+    }
+    let cli =
+        Cli::try_parse_from(["opengrasp", "run", "motion", "--scene", "clean the table", "--scene", "x"]).unwrap();
+    match cli.command {
+        Command::Run(a) => assert_eq!(a.scenes, ["clean the table", "x"]),
         other => panic!("parsed {other:?}"),
     }
     let cli = Cli::try_parse_from(["opengrasp", "run", "all"]).unwrap();
