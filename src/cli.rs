@@ -132,6 +132,10 @@ pub struct RunArgs {
     /// (rapier; default: the size's, 0 for `tiny`, 2 for `default`, 5 for `paper`).
     #[arg(long)]
     pub physics: Option<usize>,
+    /// Keep every evaluated grasp candidate (pose, preshape, approach, closed configuration,
+    /// contacts, force closure, epsilon, volume, physics outcome) in the results file.
+    #[arg(long)]
+    pub grasps: bool,
     /// Clean the Table episodes per motion planner (default: the size's, 0 for `tiny`, 1 for
     /// `default`, 5 for `paper`).
     #[arg(long)]
@@ -233,6 +237,9 @@ pub fn build_suite(args: &RunArgs) -> Result<Suite> {
     }
     if let Some(n) = args.physics {
         suite = suite.physics_per_cell(n);
+    }
+    if args.grasps {
+        suite = suite.record_grasps(true);
     }
     if let Some(e) = args.episodes {
         suite = suite.clean_the_table(e);

@@ -538,6 +538,12 @@ fn validate_grasp(g: &GraspSection) -> Result<()> {
         percent(&f("fc_percent_all"), c.fc_percent_all)?;
         non_negative(&f("mean_epsilon"), c.mean_epsilon)?;
         non_negative(&f("median_epsilon"), c.median_epsilon)?;
+        at_most(&f("candidates"), c.candidates.len(), "evaluated", c.evaluated)?;
+        for (k, r) in c.candidates.iter().enumerate() {
+            non_negative(&f(&format!("candidates[{k}].epsilon")), r.epsilon)?;
+            non_negative(&f(&format!("candidates[{k}].volume")), r.volume)?;
+            at_most(&f(&format!("candidates[{k}].index")), r.index, "generated", c.generated.saturating_sub(1))?;
+        }
         non_negative(&f("planning_seconds"), c.planning_seconds)?;
         non_negative(&f("evaluation_seconds"), c.evaluation_seconds)?;
         non_negative(&f("evaluations_per_second"), c.evaluations_per_second)?;

@@ -378,6 +378,12 @@ impl Suite {
         self
     }
 
+    /// Keeps every evaluated grasp candidate in the results ([`GraspBenchmarkConfig::record_candidates`]).
+    pub fn record_grasps(mut self, record: bool) -> Self {
+        self.grasp.record_candidates = record;
+        self
+    }
+
     /// Sets the motion runs per planner per scene.
     pub fn runs(mut self, runs: usize) -> Self {
         self.motion.runs = runs;

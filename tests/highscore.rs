@@ -76,6 +76,7 @@ fn cell(planner: &str, hand: &str, object: &str, palm: usize, fc: usize, eps: f6
             planning_seconds: 0.01,
             evaluation_seconds: 0.02,
             evaluations_per_second: 100.0,
+            candidates: vec![],
         },
     }
 }

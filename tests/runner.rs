@@ -54,6 +54,7 @@ fn cell(
         planning_seconds: 0.01,
         evaluation_seconds: 0.2,
         evaluations_per_second: evaluated as f64 / 0.2,
+        candidates: Vec::new(),
     }
 }
 
@@ -649,19 +650,12 @@ fn run_grasp_with_physics_checks_end_to_end() {
     let dir = temp_dir("cli-physics");
     let out = dir.join("results.json");
     let run = |physics: &str| {
-        let cli = Cli::try_parse_from([
-            "opengrasp",
-            "run",
-            "grasp",
-            "--size",
-            "tiny",
-            "--physics",
-            physics,
-            "--quiet",
-            "--out",
-            out.to_str().unwrap(),
-        ])
-        .unwrap();
+        let mut argv = vec!["opengrasp", "run", "grasp", "--size", "tiny", "--physics", physics, "--quiet"];
+        if physics != "0" {
+            argv.push("--grasps");
+        }
+        argv.extend(["--out", out.to_str().unwrap()]);
+        let cli = Cli::try_parse_from(argv).unwrap();
         let Command::Run(args) = cli.command else { panic!("not a run") };
         cli::run(&args, false).unwrap().0
     };
@@ -676,7 +670,26 @@ fn run_grasp_with_physics_checks_end_to_end() {
             && c.cell.physics_tested <= c.cell.force_closure_palm.min(2)));
     let text = report::render(&checked, Format::Table);
     assert!(text.contains("MA held"), "{text}");
+    // --grasps: one record per evaluated candidate, adding up to the cell's figures.
+    for c in cells.iter().map(|r| &r.cell) {
+        let k = &c.candidates;
+        assert_eq!(k.len(), c.evaluated);
+        assert_eq!(k.iter().filter(|r| r.palm_contact).count(), c.palm_contact);
+        assert_eq!(k.iter().filter(|r| r.force_closure).count(), c.force_closure);
+        let fc_palm: Vec<f64> = k.iter().filter(|r| r.palm_contact && r.force_closure).map(|r| r.epsilon).collect();
+        assert_eq!(fc_palm.len(), c.force_closure_palm);
+        if !fc_palm.is_empty() {
+            let mean = fc_palm.iter().sum::<f64>() / fc_palm.len() as f64;
+            assert!((mean - c.mean_epsilon).abs() < 1e-12);
+        }
+        assert_eq!(k.iter().filter(|r| r.physics_held.is_some()).count(), c.physics_tested);
+        assert_eq!(k.iter().filter(|r| r.physics_held == Some(true)).count(), c.physics_held);
+        assert!(k.iter().all(|r| r.index < c.generated && r.epsilon >= 0.0 && r.volume >= 0.0));
+    }
+    assert_eq!(ResultsFile::load(&out).unwrap(), checked);
     let unchecked = run("0");
-    assert!(unchecked.grasp.unwrap().cells.iter().all(|c| c.cell.physics_tested == 0));
+    assert!(unchecked.grasp.as_ref().unwrap().cells.iter().all(|c| c.cell.physics_tested == 0));
+    assert!(unchecked.grasp.as_ref().unwrap().cells.iter().all(|c| c.cell.candidates.is_empty()));
+    assert!(!std::fs::read_to_string(&out).unwrap().contains("\"candidates\""));
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -30,6 +30,7 @@
 
 use std::time::Instant;
 
+use nalgebra::Isometry3;
 use opengrasp_assets::hands::{self, Hand};
 use opengrasp_assets::objects::{self, ObjectModel};
 use serde::{Deserialize, Serialize};
@@ -37,7 +38,8 @@ use serde::{Deserialize, Serialize};
 use crate::error::{GraspError, Result};
 use crate::evaluator::{EvaluationStatus, EvaluatorOptions, GraspEvaluator, PhysicsCheckOptions};
 use crate::planners::{
-    GraspPlanner, GraspRequest, MedialAxisOptions, MedialAxisPlanner, SurfaceNormalOptions, SurfaceNormalPlanner,
+    GraspCandidate, GraspPlanner, GraspRequest, MedialAxisOptions, MedialAxisPlanner, SurfaceNormalOptions,
+    SurfaceNormalPlanner,
 };
 
 /// The eight objects of the paper's Tables I and II: `(row label, asset name)`.
@@ -139,6 +141,9 @@ pub struct GraspBenchmarkConfig {
     pub physics_per_cell: usize,
     /// Options of the physics check. Default: [`PhysicsCheckOptions::default`].
     pub physics: PhysicsCheckOptions,
+    /// Keep one [`CandidateRecord`] per evaluated candidate in [`CellResult::candidates`]
+    /// (about 0.5 kB each in JSON). Default: false.
+    pub record_candidates: bool,
 }
 
 impl Default for GraspBenchmarkConfig {
@@ -153,8 +158,38 @@ impl Default for GraspBenchmarkConfig {
             max_candidates: None,
             physics_per_cell: 0,
             physics: PhysicsCheckOptions::default(),
+            record_candidates: false,
         }
     }
+}
+
+/// One evaluated candidate, for inspecting or re-scoring a planner's grasps.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CandidateRecord {
+    /// Index in the planner's candidate list.
+    pub index: usize,
+    /// The candidate as the planner produced it (object frame).
+    pub candidate: GraspCandidate,
+    /// How the evaluation ended.
+    pub status: EvaluationStatus,
+    /// Final palm pose in the object frame (after retraction and standoff).
+    pub hand_pose: Isometry3<f64>,
+    /// Final hand configuration (after closing).
+    pub q: Vec<f64>,
+    /// True if the palm touches the object (the paper's "tested").
+    pub palm_contact: bool,
+    /// Fingers touching the object.
+    pub fingers_in_contact: usize,
+    /// Contacts found.
+    pub contacts: usize,
+    /// Force closure (QP test).
+    pub force_closure: bool,
+    /// Ferrari-Canny epsilon (0 without force closure).
+    pub epsilon: f64,
+    /// Grasp wrench space volume (0 if unavailable).
+    pub volume: f64,
+    /// Outcome of the physics hold check, if this grasp was simulated.
+    pub physics_held: Option<bool>,
 }
 
 /// Results of one planner × hand × object cell.
@@ -197,6 +232,10 @@ pub struct CellResult {
     pub evaluation_seconds: f64,
     /// Candidates evaluated per second.
     pub evaluations_per_second: f64,
+    /// Every evaluated candidate, if [`GraspBenchmarkConfig::record_candidates`] (else empty,
+    /// and absent from the JSON).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub candidates: Vec<CandidateRecord>,
 }
 
 /// All results of a benchmark run.
@@ -326,15 +365,40 @@ pub fn run_grasp_benchmark_with(
                     n => 0.5 * (eps[n / 2 - 1] + eps[n / 2]),
                 };
                 let (mut physics_tested, mut physics_held) = (0, 0);
+                let mut held_by_evaluation = vec![None; evaluations.len()];
                 if config.physics_per_cell > 0 && !fc_palm.is_empty() {
                     let m = config.physics_per_cell.min(fc_palm.len());
                     for j in 0..m {
-                        let e = &evaluations[fc_palm[j * fc_palm.len() / m]];
-                        let outcome = crate::evaluator::physics_check(&hand, object, e, &config.physics)?;
+                        let k = fc_palm[j * fc_palm.len() / m];
+                        let outcome = crate::evaluator::physics_check(&hand, object, &evaluations[k], &config.physics)?;
                         physics_tested += 1;
                         physics_held += usize::from(outcome.held());
+                        held_by_evaluation[k] = Some(outcome.held());
                     }
                 }
+                let candidate_records = if config.record_candidates {
+                    chosen
+                        .iter()
+                        .zip(&evaluations)
+                        .zip(held_by_evaluation)
+                        .map(|((&i, e), held)| CandidateRecord {
+                            index: i,
+                            candidate: candidates[i].clone(),
+                            status: e.status,
+                            hand_pose: e.hand_pose,
+                            q: e.q.clone(),
+                            palm_contact: e.palm_contact,
+                            fingers_in_contact: e.fingers_in_contact,
+                            contacts: e.contacts.len(),
+                            force_closure: e.force_closure(),
+                            epsilon: e.epsilon(),
+                            volume: e.quality.map_or(0.0, |q| q.volume),
+                            physics_held: held,
+                        })
+                        .collect()
+                } else {
+                    Vec::new()
+                };
                 let pct = |a: usize, b: usize| if b == 0 { 0.0 } else { 100.0 * a as f64 / b as f64 };
                 cells.push(CellResult {
                     planner: planner.name().to_string(),
@@ -359,6 +423,7 @@ pub fn run_grasp_benchmark_with(
                     } else {
                         0.0
                     },
+                    candidates: candidate_records,
                 });
             }
         }
