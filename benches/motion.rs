@@ -15,7 +15,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use opengrasp::motion::benchmark::BenchmarkScene;
 use opengrasp::motion::planners::RrtConnect;
 use opengrasp::motion::scenes::{armar_standard_scene, standard_scene, CheckerKind};
-use opengrasp::motion::{MotionPlanner, PlanningProblem};
+use opengrasp::motion::MotionPlanner;
 
 fn bench_scene(c: &mut Criterion, id: &str, scene: BenchmarkScene) {
     let instance = (scene.generate)(0).expect("scene instance");
@@ -25,17 +25,7 @@ fn bench_scene(c: &mut Criterion, id: &str, scene: BenchmarkScene) {
     c.bench_function(&format!("{id}/rrt_connect_plan"), |b| {
         b.iter(|| {
             seed = (seed + 1) % 100;
-            let problem = PlanningProblem {
-                robot: &instance.robot,
-                group: &instance.group,
-                q_full: &instance.q_full,
-                start: &instance.start,
-                goal: &instance.goal,
-                checker: &*instance.checker,
-                time_limit: Duration::from_secs(10),
-                seed,
-                step: 0.02,
-            };
+            let problem = instance.problem(&*instance.checker, Duration::from_secs(10), seed, 0.02);
             planner.plan(&problem).expect("solved")
         })
     });

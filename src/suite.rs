@@ -234,7 +234,7 @@ impl Suite {
     /// Adds the reference motion planners and scenes for `size` and sets the runs.
     pub fn with_reference_motion(mut self, size: SuiteSize) -> Self {
         self.motion.runs = size.runs();
-        self.episodes = 0;
+        self.episodes = size.episodes();
         match size {
             SuiteSize::Tiny => {
                 let prm = PrmOptions { nodes: 200, ..PrmOptions::default() };
@@ -248,14 +248,14 @@ impl Suite {
                 // Smaller roadmaps where the environment changes every run (setup per run),
                 // as in the paper's IK-based scene.
                 let prm_ik = PrmOptions { nodes: 150, ..prm };
-                let ik_scenes = vec![armar_ik_scene(), ik_scene(CheckerKind::Exact)];
+                let standard_scenes = [armar_standard_scene(), standard_scene(CheckerKind::Exact)];
+                let ik_scenes = [armar_ik_scene(), ik_scene(CheckerKind::Exact)];
                 let ik_names: Vec<String> = ik_scenes.iter().map(|s| s.name.clone()).collect();
                 let prm_names = ik_names.clone();
                 // PRM stays off Clean the Table: its environment changes with every query
                 // (objects move), so a roadmap would be rebuilt per query.
-                let mut prm_scenes: Vec<String> =
-                    vec![armar_standard_scene().name, standard_scene(CheckerKind::Exact).name];
-                prm_scenes.extend(ik_names.iter().cloned());
+                let prm_scenes: Vec<String> =
+                    standard_scenes.iter().chain(&ik_scenes).map(|s| s.name.clone()).collect();
                 let mut ik_rrt_scenes = ik_names;
                 ik_rrt_scenes.push(CLEAN_THE_TABLE_SCENE.to_string());
                 self = self
@@ -269,13 +269,10 @@ impl Suite {
                     )
                     .motion_planner_on(ik_rrt_scenes, format!("{:?}", IkRrt::default().options), || {
                         Box::new(IkRrt::default())
-                    })
-                    .motion_scene(armar_standard_scene())
-                    .motion_scene(standard_scene(CheckerKind::Exact));
-                for s in ik_scenes {
+                    });
+                for s in standard_scenes.into_iter().chain(ik_scenes) {
                     self = self.motion_scene(s);
                 }
-                self.episodes = size.episodes();
             }
         }
         self.size_label = size.name().into();
@@ -608,19 +605,16 @@ impl Suite {
             all.extend(runs);
             episodes.extend(episode);
         }
-        let mut summaries: Vec<Summary> = pairs
+        let summaries: Vec<Summary> = pairs
             .iter()
+            .map(|(scene, entry)| (scene.name.as_str(), *entry))
+            .chain(table_planners.iter().map(|entry| (CLEAN_THE_TABLE_SCENE, *entry)))
             .map(|(scene, entry)| {
                 let records: Vec<&RunRecord> =
-                    all.iter().filter(|r| r.scene == scene.name && r.planner == entry.info.name).collect();
-                Summary::from_records(&entry.info.name, &scene.name, &records)
+                    all.iter().filter(|r| r.scene == scene && r.planner == entry.info.name).collect();
+                Summary::from_records(&entry.info.name, scene, &records)
             })
             .collect();
-        for entry in &table_planners {
-            let records: Vec<&RunRecord> =
-                all.iter().filter(|r| r.scene == CLEAN_THE_TABLE_SCENE && r.planner == entry.info.name).collect();
-            summaries.push(Summary::from_records(&entry.info.name, CLEAN_THE_TABLE_SCENE, &records));
-        }
         MotionSection {
             options: self.motion.clone(),
             scenes: self.scene_names(),

@@ -32,7 +32,6 @@
 //! # }
 //! ```
 
-use std::collections::HashSet;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -252,11 +251,12 @@ impl Srdf {
             .iter()
             .map(|g| SrdfGroup { name: g.name().to_string(), joints: g.joint_names().to_vec(), ..SrdfGroup::default() })
             .collect();
-        let adjacent: HashSet<(LinkId, LinkId)> = robot
-            .joints()
-            .iter()
-            .map(|j| if j.parent.0 <= j.child.0 { (j.parent, j.child) } else { (j.child, j.parent) })
-            .collect();
+        // Joined by a joint: one link is the other's parent.
+        let adjacent = |a: LinkId, b: LinkId| {
+            [(a, b), (b, a)]
+                .into_iter()
+                .any(|(child, parent)| robot.parent_joint(child).is_some_and(|j| robot.joint(j).parent == parent))
+        };
         let mut pairs: Vec<(LinkId, LinkId)> = robot.allowed_collision_pairs().collect();
         pairs.sort();
         let disabled_collisions = pairs
@@ -264,7 +264,7 @@ impl Srdf {
             .map(|(a, b)| DisabledCollision {
                 link1: robot.links()[a.0].name.clone(),
                 link2: robot.links()[b.0].name.clone(),
-                reason: if adjacent.contains(&(a, b)) { "Adjacent" } else { "User" }.to_string(),
+                reason: if adjacent(a, b) { "Adjacent" } else { "User" }.to_string(),
             })
             .collect();
         Self { robot: robot.name().to_string(), groups, group_states: Vec::new(), disabled_collisions }

@@ -42,6 +42,30 @@ pub struct SceneInstance {
     pub checker: Box<dyn StateValidityChecker>,
 }
 
+impl SceneInstance {
+    /// The planning query of this instance, validated by `checker` (the instance's own
+    /// `&*self.checker`, or a wrapper around it such as a counting checker).
+    pub fn problem<'a>(
+        &'a self,
+        checker: &'a dyn StateValidityChecker,
+        time_limit: Duration,
+        seed: u64,
+        step: f64,
+    ) -> PlanningProblem<'a> {
+        PlanningProblem {
+            robot: &self.robot,
+            group: &self.group,
+            q_full: &self.q_full,
+            start: &self.start,
+            goal: &self.goal,
+            checker,
+            time_limit,
+            seed,
+            step,
+        }
+    }
+}
+
 /// A benchmark scene: a generator of instances from a run seed.
 pub struct BenchmarkScene {
     /// Name in reports.
@@ -430,17 +454,7 @@ pub fn run_once(
     options: &BenchmarkOptions,
 ) -> RunRecord {
     let counter = CountingChecker::new(&*instance.checker);
-    let problem = PlanningProblem {
-        robot: &instance.robot,
-        group: &instance.group,
-        q_full: &instance.q_full,
-        start: &instance.start,
-        goal: &instance.goal,
-        checker: &counter,
-        time_limit: options.time_limit,
-        seed,
-        step: options.validation.step,
-    };
+    let problem = instance.problem(&counter, options.time_limit, seed, options.validation.step);
     let mut record = RunRecord::unfinished(planner.name(), scene, run, seed, RunStatus::Error, setup_time);
     let t0 = Instant::now();
     let result = planner.plan(&problem);

@@ -228,17 +228,8 @@ fn armar_ik_instance(x: f64, y: f64, yaw: f64) -> Result<SceneInstance> {
 /// collision-free within the limits and the goal's tolerances; for configuration goals, a goal
 /// configuration is valid.
 pub fn has_reachable_goal(instance: &SceneInstance, seed: u64) -> bool {
-    let problem = crate::problem::PlanningProblem {
-        robot: &instance.robot,
-        group: &instance.group,
-        q_full: &instance.q_full,
-        start: &instance.start,
-        goal: &instance.goal,
-        checker: &*instance.checker,
-        time_limit: std::time::Duration::from_secs(1),
-        seed,
-        step: crate::validate::DEFAULT_STEP,
-    };
+    let problem =
+        instance.problem(&*instance.checker, std::time::Duration::from_secs(1), seed, crate::validate::DEFAULT_STEP);
     match &instance.goal {
         Goal::Pose(_) => {
             let limits = problem.limits();

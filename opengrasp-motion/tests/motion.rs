@@ -592,17 +592,7 @@ fn armar_ik_scene_instances_are_reachable() {
         assert!(t.x < first_x && (1.8..2.35).contains(&t.x) && (1.86..1.95).contains(&t.y), "{t:?}");
         assert_eq!(target(seed), t, "generation must be deterministic");
         assert!(has_reachable_goal(&instance, 99));
-        let problem = PlanningProblem {
-            robot: &instance.robot,
-            group: &instance.group,
-            q_full: &instance.q_full,
-            start: &instance.start,
-            goal: &instance.goal,
-            checker: &*instance.checker,
-            time_limit: Duration::from_secs(20),
-            seed,
-            step: 0.02,
-        };
+        let problem = instance.problem(&*instance.checker, Duration::from_secs(20), seed, 0.02);
         let solution = IkRrt::default().plan(&problem).unwrap();
         assert!(problem.satisfies_goal(solution.path.last().unwrap()));
     }
