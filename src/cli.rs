@@ -24,6 +24,18 @@ use crate::report::{self, Format};
 use crate::results::{Category, Error, Result, ResultsFile};
 use crate::suite::{Progress, Suite, SuiteSize};
 
+/// Errors of the `opengrasp` command: the harness's and the high-score board's.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum CliError {
+    /// Running, loading, reporting or writing results failed.
+    #[error(transparent)]
+    Bench(#[from] Error),
+    /// A high-score board operation failed.
+    #[error(transparent)]
+    Highscore(#[from] crate::highscore::HighscoreError),
+}
+
 /// `opengrasp`: run the OpenGRASP grasp and motion planning benchmarks, report and rank results.
 #[derive(Debug, Parser)]
 #[command(name = "opengrasp", version, about, long_about = None)]
@@ -344,7 +356,7 @@ pub fn list(what: ListWhat) -> String {
 ///
 /// # Errors
 /// The command's errors.
-pub fn execute(cli: Cli) -> Result<()> {
+pub fn execute(cli: Cli) -> std::result::Result<(), CliError> {
     match cli.command {
         Command::List { what } => print!("{}", list(what)),
         Command::Run(args) => {

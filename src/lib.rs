@@ -10,17 +10,26 @@
 //! - [`motion`]: motion planners, validators, metrics and the motion benchmark
 //!   ([`opengrasp_motion`]);
 //! - [`assets`]: the standard robots, hands, objects and scenes ([`opengrasp_assets`]);
-//! - [`suite`]: the [`Suite`](suite::Suite) builder that runs the reference planners and your own
+//! - [`bench`] (`opengrasp-bench`), the benchmark harness, whose modules are re-exported here:
+//!   [`suite`]: the [`Suite`](suite::Suite) builder that runs the reference planners and your own
 //!   [`GraspPlanner`](grasp::planners::GraspPlanner)s and
 //!   [`MotionPlanner`](motion::MotionPlanner)s in one benchmark, in parallel and
 //!   deterministically;
 //! - [`results`]: results files with provenance, written atomically and validated on load;
 //! - [`report`]: the paper's Tables I–III (terminal, Markdown, CSV) with medians and
-//!   percentiles; [`plots`]: SVG box plots and bar charts;
+//!   percentiles; `plots` (feature `plots`): SVG box plots and bar charts;
 //! - [`ompl`]: motion results in OMPL's benchmark log format (Planner Arena);
-//! - [`highscore`]: the high-score board (SQLite store and HTTP service);
-//! - [`cli`]: the `opengrasp` command line (`opengrasp list | run | report | submit | highscore |
-//!   serve`).
+//! - `highscore` (feature `highscore`, `opengrasp-highscore`): the high-score board (SQLite
+//!   store and HTTP service);
+//! - `cli` (feature `cli`): the `opengrasp` command line (`opengrasp list | run | report |
+//!   submit | highscore | serve`).
+//!
+//! # Features
+//!
+//! `cli` (default) builds the `opengrasp` command and pulls in `highscore` and `plots`. A
+//! library that only needs the SDK and the harness depends on
+//! `opengrasp = { version = "0.1", default-features = false }` and compiles no HTTP server,
+//! SQLite, command-line parser or plotting library.
 //!
 //! # Example
 //!
@@ -45,19 +54,21 @@
 //! ```
 
 pub use opengrasp_assets as assets;
+pub use opengrasp_bench as bench;
+pub use opengrasp_bench::{ompl, report, results, suite};
 pub use opengrasp_core as core;
 pub use opengrasp_grasp as grasp;
+#[cfg(feature = "highscore")]
+pub use opengrasp_highscore as highscore;
 pub use opengrasp_motion as motion;
 
-pub mod cli;
-pub mod highscore;
-pub mod ompl;
-pub mod plots;
-pub mod report;
-pub mod results;
-pub mod suite;
+#[cfg(feature = "plots")]
+pub use opengrasp_bench::plots;
 
-pub use results::{Error, Result, ResultsFile};
+#[cfg(feature = "cli")]
+pub mod cli;
+
+pub use opengrasp_bench::{Error, Result, ResultsFile};
 
 /// The most used types in one import: `use opengrasp::prelude::*;`.
 pub mod prelude {

@@ -86,6 +86,9 @@
 //! Robot links use boxes, cylinders, spheres and capsules. Mass properties of objects assume a
 //! uniform density over the enclosed volume (a filled salt can counts as solid).
 
+/// The version of this crate (recorded in results files' provenance).
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+
 pub mod error;
 pub mod export;
 pub mod hands;

@@ -12,6 +12,9 @@
 
 #![forbid(unsafe_code)]
 
+/// The version of this crate (recorded in results files' provenance).
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+
 pub mod collision;
 pub mod error;
 pub mod kinematics;

@@ -55,6 +55,9 @@
 //! # }
 //! ```
 
+/// The version of this crate (recorded in results files' provenance).
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+
 pub mod benchmark;
 pub mod contact;
 pub mod error;

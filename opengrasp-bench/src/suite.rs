@@ -30,10 +30,10 @@
 //! shortcutting of the 11-DoF paths). `SuiteSize::Paper` is the full paper-sized suite.
 //!
 //! ```
-//! use opengrasp::suite::{planar_scene, Suite};
-//! use opengrasp::motion::planners::RrtConnect;
+//! use opengrasp_bench::suite::{planar_scene, Suite};
+//! use opengrasp_motion::planners::RrtConnect;
 //!
-//! # fn main() -> opengrasp::Result<()> {
+//! # fn main() -> opengrasp_bench::Result<()> {
 //! let results = Suite::new()
 //!     .motion_planner("default options", || Box::new(RrtConnect::default()))
 //!     .motion_scene(planar_scene())
@@ -334,7 +334,7 @@ impl Suite {
         self
     }
 
-    /// Sets the grasp objects (asset names, see `opengrasp::assets::objects::NAMES`).
+    /// Sets the grasp objects (asset names, see `opengrasp_assets::objects::NAMES`).
     pub fn objects(mut self, objects: Vec<String>) -> Self {
         self.grasp.objects = objects;
         self

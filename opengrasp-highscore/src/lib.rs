@@ -36,9 +36,9 @@
 //! # Example
 //!
 //! ```no_run
-//! # fn main() -> opengrasp::highscore::Result<()> {
+//! # fn main() -> opengrasp_highscore::Result<()> {
 //! use std::path::Path;
-//! use opengrasp::highscore;
+//! use opengrasp_highscore as highscore;
 //! let db = Path::new("results.sqlite");
 //! let id = highscore::submit(db, Path::new("results.json"), "alice")?;
 //! println!("stored as submission {}", id.0);
@@ -62,7 +62,7 @@ pub use error::{HighscoreError, Result};
 pub use server::{serve, spawn, ServerHandle, ServerOptions};
 pub use store::{Counts, Store, SCHEMA_VERSION};
 
-use crate::results::ResultsFile;
+use opengrasp_bench::results::ResultsFile;
 
 /// Largest accepted upload or results file (8 MiB).
 pub const MAX_UPLOAD_BYTES: usize = 8 * 1024 * 1024;
@@ -306,8 +306,8 @@ impl Submission {
     }
 }
 
-fn from_results_error(e: crate::results::Error) -> HighscoreError {
-    use crate::results::Error as E;
+fn from_results_error(e: opengrasp_bench::results::Error) -> HighscoreError {
+    use opengrasp_bench::results::Error as E;
     match e {
         E::Parse { source, .. } => HighscoreError::InvalidJson { message: source.to_string() },
         E::SchemaVersion { found, expected } => {
@@ -354,10 +354,10 @@ fn validate_limits(r: &ResultsFile) -> Result<()> {
             check_text(field, v, MAX_NAME)?;
         }
     }
-    if p.suite_version != crate::results::SUITE_VERSION {
+    if p.suite_version != opengrasp_bench::results::SUITE_VERSION {
         return Err(HighscoreError::field(
             "provenance.suite_version",
-            format!("the board ranks suite {:?}, not {:?}", crate::results::SUITE_VERSION, p.suite_version),
+            format!("the board ranks suite {:?}, not {:?}", opengrasp_bench::results::SUITE_VERSION, p.suite_version),
         ));
     }
     for (k, v) in &p.crate_versions {
@@ -417,8 +417,8 @@ pub fn slug(name: &str) -> String {
 
 /// The benchmarks every database starts with: one per benchmark hand of
 /// [`opengrasp_grasp::benchmark::BenchmarkHand`], one per scene of [`opengrasp_motion::scenes`],
-/// Clean the Table ([`CLEAN_THE_TABLE_SCENE`](crate::suite::CLEAN_THE_TABLE_SCENE), ranked per
-/// grasp/place query) and the tiny suite's [`planar_scene`](crate::suite::planar_scene).
+/// Clean the Table ([`CLEAN_THE_TABLE_SCENE`](opengrasp_bench::suite::CLEAN_THE_TABLE_SCENE), ranked per
+/// grasp/place query) and the tiny suite's [`planar_scene`](opengrasp_bench::suite::planar_scene).
 pub fn builtin_benchmarks() -> Vec<BenchmarkInfo> {
     use opengrasp_grasp::benchmark::BenchmarkHand;
     use opengrasp_motion::scenes::{self, CheckerKind};
@@ -438,9 +438,10 @@ pub fn builtin_benchmarks() -> Vec<BenchmarkInfo> {
         scenes::standard_scene(CheckerKind::Exact),
         scenes::standard_scene(CheckerKind::Spheres),
         scenes::ik_scene(CheckerKind::Exact),
-        crate::suite::planar_scene(),
+        opengrasp_bench::suite::planar_scene(),
     ];
-    let names = scenes.into_iter().map(|s| s.name).chain(std::iter::once(crate::suite::CLEAN_THE_TABLE_SCENE.into()));
+    let names =
+        scenes.into_iter().map(|s| s.name).chain(std::iter::once(opengrasp_bench::suite::CLEAN_THE_TABLE_SCENE.into()));
     for name in names {
         out.push(BenchmarkInfo {
             id: format!("motion/{}", slug(&name)),

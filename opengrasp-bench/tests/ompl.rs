@@ -4,11 +4,11 @@
 
 use std::collections::BTreeMap;
 
-use opengrasp::motion::benchmark::RunStatus;
-use opengrasp::motion::planners::{Prm, PrmOptions, RrtConnect};
-use opengrasp::ompl::{self, RUN_PROPERTIES, STATUS_VALUES};
-use opengrasp::results::ResultsFile;
-use opengrasp::suite::{planar_scene, Suite};
+use opengrasp_bench::ompl::{self, RUN_PROPERTIES, STATUS_VALUES};
+use opengrasp_bench::results::ResultsFile;
+use opengrasp_bench::suite::{planar_scene, Suite};
+use opengrasp_motion::benchmark::RunStatus;
+use opengrasp_motion::planners::{Prm, PrmOptions, RrtConnect};
 
 /// What `readBenchmarkLog` extracts from one log.
 #[derive(Debug)]

@@ -482,7 +482,7 @@ fn int(v: usize) -> i64 {
 fn insert_cells(
     tx: &Transaction<'_>,
     id: i64,
-    cells: &[crate::results::GraspRecord],
+    cells: &[opengrasp_bench::results::GraspRecord],
     known: &BTreeMap<String, BenchmarkKind>,
 ) -> Result<()> {
     let mut stmt = tx.prepare(

@@ -6,12 +6,12 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
 
-use opengrasp::grasp::benchmark::CellResult;
-use opengrasp::highscore::{self, Counts, EntryMetrics, HighscoreError, ServerOptions, Store, Submitter};
-use opengrasp::motion::benchmark::{BenchmarkOptions, PathReport, RunRecord, RunStatus};
-use opengrasp::motion::metrics::PathMetrics;
-use opengrasp::motion::validate::PathValidity;
-use opengrasp::results::{GraspRecord, GraspSection, MotionSection, PlannerInfo, Provenance, ResultsFile};
+use opengrasp_bench::results::{GraspRecord, GraspSection, MotionSection, PlannerInfo, Provenance, ResultsFile};
+use opengrasp_grasp::benchmark::CellResult;
+use opengrasp_highscore::{self as highscore, Counts, EntryMetrics, HighscoreError, ServerOptions, Store, Submitter};
+use opengrasp_motion::benchmark::{BenchmarkOptions, PathReport, RunRecord, RunStatus};
+use opengrasp_motion::metrics::PathMetrics;
+use opengrasp_motion::validate::PathValidity;
 use serde_json::Value;
 
 const TOL: f64 = 1e-12;
@@ -521,10 +521,10 @@ fn http_rejects_bad_uploads_without_writing() {
 
 #[test]
 fn real_tiny_motion_run_is_submitted_and_ranked() {
-    use opengrasp::motion::planners::RrtConnect;
-    let results = opengrasp::suite::Suite::new()
+    use opengrasp_motion::planners::RrtConnect;
+    let results = opengrasp_bench::suite::Suite::new()
         .motion_planner("default options", || Box::new(RrtConnect::default()))
-        .motion_scene(opengrasp::suite::planar_scene())
+        .motion_scene(opengrasp_bench::suite::planar_scene())
         .runs(3)
         .seed(1)
         .jobs(1)
