@@ -12,9 +12,9 @@
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
+use opengrasp::bench::scenes::{armar_standard_scene, standard_scene, CheckerKind};
 use opengrasp::motion::benchmark::BenchmarkScene;
 use opengrasp::motion::planners::RrtConnect;
-use opengrasp::motion::scenes::{armar_standard_scene, standard_scene, CheckerKind};
 use opengrasp::motion::MotionPlanner;
 
 fn bench_scene(c: &mut Criterion, id: &str, scene: BenchmarkScene) {

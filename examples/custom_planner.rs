@@ -11,8 +11,8 @@
 //! opengrasp report OUT.json
 //! ```
 
+use opengrasp::bench::stock::{stock_hand, stock_object};
 use opengrasp::core::nalgebra::Unit;
-use opengrasp::grasp::benchmark::BenchmarkHand;
 use opengrasp::grasp::planners::{palm_pose, GraspCandidate, GraspPlanner, GraspRequest, Preshape};
 use opengrasp::motion::planners::RrtConnect;
 use opengrasp::motion::validate::segment_valid_discrete;
@@ -93,8 +93,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         // Grasp: the reference planners and ours, on two objects with the Barrett hand.
         .with_reference_grasp(opengrasp::suite::SuiteSize::Tiny)
         .grasp_planner("samples = 24", RandomSurface { samples: 24 })
-        .hands(vec![BenchmarkHand::Barrett])
-        .objects(vec!["salt_can".into(), "white_cup".into()])
+        .hands(vec![stock_hand("barrett")?])
+        .objects(vec![stock_object("salt_can")?, stock_object("white_cup")?])
         .max_candidates(Some(24))
         // Motion: RRT-Connect and ours on the planar arm scene.
         .motion_planner("default options", || Box::new(RrtConnect::default()))

@@ -4,13 +4,19 @@
 //!
 //! ```text
 //! cargo run --release --example grasp_benchmark -- [--max-candidates N] [--physics N]
-//!     [--physics-stiffness K] [--hand barrett|armar3] [--seed S] [--out FILE]
+//!     [--physics-stiffness K] [--hand NAME|PATH] [--seed S] [--out FILE]
 //! ```
 
-use opengrasp_grasp::benchmark::{run_grasp_benchmark, BenchmarkHand, GraspBenchmarkConfig};
+use opengrasp::bench::paper::PAPER_OBJECTS;
+use opengrasp::bench::stock::{resolve_hand, stock_hand, stock_object};
+use opengrasp::grasp::benchmark::{run_grasp_benchmark, GraspBenchmarkConfig};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut config = GraspBenchmarkConfig::default();
+    let mut config = GraspBenchmarkConfig {
+        hands: vec![stock_hand("armar3")?, stock_hand("barrett")?],
+        objects: PAPER_OBJECTS.iter().map(|(_, name)| stock_object(name)).collect::<Result<_, _>>()?,
+        ..Default::default()
+    };
     let mut out = String::from("grasp_benchmark.json");
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
@@ -24,21 +30,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 config.physics.physics.joint_stiffness = k;
                 config.physics.physics.joint_damping = 2.0 * k.sqrt();
             }
-            "--hand" => {
-                config.hands = match value()?.as_str() {
-                    "barrett" => vec![BenchmarkHand::Barrett],
-                    "armar3" => vec![BenchmarkHand::Armar3],
-                    other => return Err(format!("unknown hand {other}").into()),
-                }
-            }
+            "--hand" => config.hands = vec![resolve_hand(&value()?)?],
             "--out" => out = value()?,
             other => return Err(format!("unknown argument {other}").into()),
         }
     }
     let results = run_grasp_benchmark(&config)?;
-    for (hand, title) in [("armar3", "Table I: ARMAR-III hand"), ("barrett", "Table II: Barrett hand")] {
-        println!("{title} (candidates with palm contact, % force closure among them; paper: candidates/FC)");
-        println!("{}", results.table(hand));
+    for hand in &config.hands {
+        println!("hand {} (candidates with palm contact, % force closure among them)", hand.name());
+        println!("{}", results.table(hand.name()));
     }
     println!(
         "{:<16} {:<16} {:<14} {:>9} {:>9} {:>9} {:>9} {:>9} {:>8}",

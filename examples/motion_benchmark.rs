@@ -13,10 +13,10 @@
 
 use std::time::Instant;
 
+use opengrasp::bench::clean_table::{clean_the_table, CleanTheTableOptions};
+use opengrasp::bench::scenes::{armar_ik_scene, armar_standard_scene, ik_scene, standard_scene, CheckerKind};
 use opengrasp::motion::benchmark::{run_benchmark, BenchmarkOptions, BenchmarkReport, RunRecord, Summary};
-use opengrasp::motion::clean_table::{clean_the_table, CleanTheTableOptions};
 use opengrasp::motion::planners::{IkRrt, Prm, PrmOptions, RrtConnect};
-use opengrasp::motion::scenes::{armar_ik_scene, armar_standard_scene, ik_scene, standard_scene, CheckerKind};
 use opengrasp::motion::{MotionPlanner, Result, StateValidityChecker};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;

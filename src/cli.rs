@@ -4,6 +4,7 @@
 //! ```text
 //! opengrasp list [categories|scenes|planners|hands|objects]
 //! opengrasp run grasp|motion|all [--size tiny|default|paper] [--planner NAME]... [--runs N]
+//!                                [--hand NAME|PATH]... [--object NAME|PATH]...
 //!                                [--seed S] [--max-candidates N|all] [--out results.json] [--jobs J]
 //!                                [--quiet]
 //! opengrasp report results.json [--format table|markdown|csv] [--plots DIR] [--ompl DIR]
@@ -20,6 +21,7 @@ use std::sync::Mutex;
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use crate::bench::stock;
 use crate::report::{self, Format};
 use crate::results::{Category, Error, Result, ResultsFile};
 use crate::suite::{Progress, Suite, SuiteSize};
@@ -131,6 +133,15 @@ pub struct RunArgs {
     /// `"standard (ARMAR-III kitchen)"` or `"clean the table"`).
     #[arg(long = "scene")]
     pub scenes: Vec<String>,
+    /// Grasp hands (repeatable): a stock hand (`opengrasp list hands`) or a hand spec file
+    /// naming its URDF (see `opengrasp::core::hand`). Default: the size's hands.
+    #[arg(long = "hand", value_name = "NAME|PATH")]
+    pub hands: Vec<String>,
+    /// Grasp objects (repeatable): a stock object (`opengrasp list objects`), or an object's
+    /// mesh (`.stl`/`.obj` with a `.json` metadata file beside it) or metadata file (see
+    /// `opengrasp::core::object`). Default: the size's objects.
+    #[arg(long = "object", value_name = "NAME|PATH")]
+    pub objects: Vec<String>,
     /// Motion runs per planner per scene (default: the size's).
     #[arg(long)]
     pub runs: Option<usize>,
@@ -224,7 +235,8 @@ pub enum Command {
 /// Builds the suite `opengrasp run` would run.
 ///
 /// # Errors
-/// [`Error::InvalidOption`] for an unknown planner, a bad `--max-candidates` or zero jobs.
+/// [`Error::InvalidOption`] for an unknown planner, hand or object, a bad `--max-candidates`
+/// or zero jobs; [`Error::Core`] for a hand or object file that does not load.
 pub fn build_suite(args: &RunArgs) -> Result<Suite> {
     let size = SuiteSize::from(args.size);
     let mut suite = match args.which {
@@ -233,6 +245,12 @@ pub fn build_suite(args: &RunArgs) -> Result<Suite> {
         Which::All => Suite::standard(size),
     };
     suite = suite.seed(args.seed);
+    if !args.hands.is_empty() {
+        suite = suite.hands(args.hands.iter().map(|h| stock::resolve_hand(h)).collect::<Result<_>>()?);
+    }
+    if !args.objects.is_empty() {
+        suite = suite.objects(args.objects.iter().map(|o| stock::resolve_object(o)).collect::<Result<_>>()?);
+    }
     if let Some(r) = args.runs {
         suite = suite.runs(r);
     }
@@ -344,10 +362,15 @@ pub fn list(what: ListWhat) -> String {
         section(&mut out, "planners", suite.planner_names());
     }
     if all || what == ListWhat::Hands {
-        section(&mut out, "hands", vec!["armar3".into(), "barrett".into()]);
+        let mut hands: Vec<String> = stock::HAND_NAMES.iter().map(|s| s.to_string()).collect();
+        hands.push("or PATH: a hand spec file naming its URDF (--hand PATH)".into());
+        section(&mut out, "hands", hands);
     }
     if all || what == ListWhat::Objects {
-        section(&mut out, "objects", opengrasp_assets::objects::NAMES.iter().map(|s| s.to_string()).collect());
+        let mut objects: Vec<String> = stock::OBJECT_NAMES.iter().map(|s| s.to_string()).collect();
+        objects
+            .push("or PATH: a mesh with a .json metadata file beside it, or the metadata file (--object PATH)".into());
+        section(&mut out, "objects", objects);
     }
     out
 }

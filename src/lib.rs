@@ -10,7 +10,7 @@
 //! - [`motion`]: motion planners, validators, metrics and the motion benchmark
 //!   ([`opengrasp_motion`]);
 //! - [`assets`]: the standard robots, hands, objects and scenes ([`opengrasp_assets`]);
-//! - [`bench`] (`opengrasp-bench`), the benchmark harness, whose modules are re-exported here:
+//! - [`bench`](mod@bench) (`opengrasp-bench`), the benchmark harness, whose modules are re-exported here:
 //!   [`suite`]: the [`Suite`](suite::Suite) builder that runs the reference planners and your own
 //!   [`GraspPlanner`](grasp::planners::GraspPlanner)s and
 //!   [`MotionPlanner`](motion::MotionPlanner)s in one benchmark, in parallel and

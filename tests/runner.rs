@@ -4,8 +4,9 @@
 use std::path::{Path, PathBuf};
 
 use clap::Parser;
+use opengrasp::bench::stock::{resolve_object, stock_hand, stock_object};
 use opengrasp::cli::{self, Cli, Command, FormatArg, ListWhat, RunArgs, SizeArg, Which};
-use opengrasp::grasp::benchmark::{BenchmarkHand, CellResult};
+use opengrasp::grasp::benchmark::CellResult;
 use opengrasp::motion::benchmark::{BenchmarkOptions, PathReport, RunRecord, RunStatus};
 use opengrasp::motion::metrics::PathMetrics;
 use opengrasp::motion::planners::{Prm, PrmOptions, RrtConnect};
@@ -368,7 +369,7 @@ fn parallel_sweep_equals_serial_sweep() {
     let suite = |jobs: usize| {
         Suite::new()
             .with_reference_grasp(SuiteSize::Tiny)
-            .objects(vec!["salt_can".into(), "white_cup".into()])
+            .objects(vec![stock_object("salt_can").unwrap(), stock_object("white_cup").unwrap()])
             .motion_planner("defaults", || Box::new(RrtConnect::default()))
             .motion_planner("nodes = 150", || Box::new(Prm::new(PrmOptions { nodes: 150, ..PrmOptions::default() })))
             .motion_scene(planar_scene())
@@ -411,11 +412,11 @@ fn suite_rejects_bad_options() {
     assert!(matches!(Suite::new().run(), Err(Error::InvalidOption { name: "suite", .. })));
     let zero = Suite::new().motion_planner("", || Box::new(RrtConnect::default())).motion_scene(planar_scene()).jobs(0);
     assert!(matches!(zero.run(), Err(Error::InvalidOption { name: "jobs", .. })));
-    let unknown_object = Suite::new().with_reference_grasp(SuiteSize::Tiny).objects(vec!["anvil".into()]);
-    assert!(matches!(unknown_object.run(), Err(Error::Grasp(_))));
+    assert!(matches!(stock_object("anvil"), Err(Error::InvalidOption { name: "object", .. })));
+    assert!(matches!(resolve_object("no/such/anvil.stl"), Err(Error::InvalidOption { name: "object", .. })));
     let kept = Suite::standard(SuiteSize::Tiny).retain_planners(&["prm".into(), "MEDIAL-AXIS".into()]).unwrap();
     assert_eq!(kept.planner_names(), vec!["medial-axis".to_string(), "PRM".to_string()]);
-    let hands = Suite::new().with_reference_grasp(SuiteSize::Tiny).hands(vec![BenchmarkHand::Armar3]);
+    let hands = Suite::new().with_reference_grasp(SuiteSize::Tiny).hands(vec![stock_hand("armar3").unwrap()]);
     assert_eq!(hands.planner_names().len(), 2);
     // Scene filters: exact names (any case), Clean the Table included or not, unknown rejected.
     let standard = || Suite::standard(SuiteSize::Default);
@@ -585,14 +586,65 @@ fn list_names_everything() {
         "IK-RRT",
         "barrett",
         "armar3",
+        "sdh",
         "salt_can",
         "standard (7-DoF stand-in)",
         "clean the table",
     ] {
         assert!(text.contains(item), "{item} missing in\n{text}");
     }
+    // The stock objects, then how to bring your own.
     let objects = cli::list(ListWhat::Objects);
-    assert_eq!(objects.lines().count(), 1 + opengrasp::assets::objects::NAMES.len());
+    assert_eq!(objects.lines().count(), 2 + opengrasp::assets::objects::NAMES.len());
+    assert!(objects.contains("--object PATH"), "{objects}");
+    assert!(cli::list(ListWhat::Hands).contains("--hand PATH"));
+}
+
+/// `--hand PATH` and `--object PATH` bring a lab's own hand (URDF + spec file) and object
+/// (STL + metadata file) into `opengrasp run grasp`; unknown names are errors.
+#[test]
+fn run_grasp_takes_hands_and_objects_from_files() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("opengrasp-bench/tests/data/user_models");
+    let out = std::env::temp_dir().join(format!("opengrasp-cli-user-models-{}.json", std::process::id()));
+    let hand = data.join("gripper.hand.json");
+    let object = data.join("tea_box.stl");
+    let args = |hand: &str, object: &str| {
+        let cli = Cli::try_parse_from([
+            "opengrasp",
+            "run",
+            "grasp",
+            "--size",
+            "tiny",
+            "--hand",
+            hand,
+            "--hand",
+            "sdh",
+            "--object",
+            object,
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ])
+        .unwrap();
+        match cli.command {
+            Command::Run(a) => a,
+            other => panic!("parsed {other:?}"),
+        }
+    };
+    let a = args(hand.to_str().unwrap(), object.to_str().unwrap());
+    assert_eq!(a.hands.len(), 2);
+    let (results, _) = cli::run(&a, false).unwrap();
+    let grasp = results.grasp.as_ref().unwrap();
+    assert_eq!(grasp.hands, ["lab_gripper", "sdh"]);
+    assert_eq!(grasp.objects, ["tea_box"]);
+    assert_eq!(grasp.cells.len(), 2 * 2);
+    assert_eq!(ResultsFile::load(&out).unwrap().grasp.unwrap().hands, grasp.hands);
+    std::fs::remove_file(&out).ok();
+    assert!(matches!(
+        cli::run(&args("hand-of-god", "salt_can"), false),
+        Err(Error::InvalidOption { name: "hand", .. })
+    ));
+    assert!(matches!(cli::run(&args("barrett", "anvil"), false), Err(Error::InvalidOption { name: "object", .. })));
 }
 
 #[test]

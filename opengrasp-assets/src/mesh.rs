@@ -9,7 +9,7 @@
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
-use nalgebra::{Matrix3, Point3, Vector3};
+use nalgebra::{Point3, Vector3};
 use opengrasp_core::model::TriangleMesh;
 
 use crate::error::Result;
@@ -175,27 +175,4 @@ pub fn handle_shell(m: &mut MeshBuilder, x0: f64, zc: f64, arc_radius: f64, tube
     path.push(Point3::new(x0 - embed, 0.0, zc - arc_radius));
     normals.push(-Vector3::z());
     m.tube(&path, &normals, tube_radius, 16);
-}
-
-/// Mass properties of a closed, outward-oriented mesh of uniform density and total `mass`:
-/// `(volume, centre of mass, inertia about the centre of mass)`.
-pub fn mass_properties(mesh: &TriangleMesh, mass: f64) -> (f64, Point3<f64>, Matrix3<f64>) {
-    let canonical = Matrix3::new(2.0, 1.0, 1.0, 1.0, 2.0, 1.0, 1.0, 1.0, 2.0) / 120.0;
-    let mut cov = Matrix3::zeros();
-    let mut vol = 0.0;
-    let mut first = Vector3::zeros();
-    let v = mesh.vertices();
-    for t in mesh.triangles() {
-        let [a, b, c] = t.map(|i| v[i as usize].coords);
-        let am = Matrix3::from_columns(&[a, b, c]);
-        let det = am.determinant();
-        cov += am * canonical * am.transpose() * det;
-        vol += det / 6.0;
-        first += (a + b + c) * (det / 24.0);
-    }
-    let com = first / vol;
-    let cov_c = cov - com * com.transpose() * vol;
-    let density = mass / vol;
-    let inertia = (Matrix3::identity() * cov_c.trace() - cov_c) * density;
-    (vol, Point3::from(com), (inertia + inertia.transpose()) * 0.5)
 }

@@ -4,92 +4,16 @@
 //! Every object frame has its origin at the centre of the bottom face (the object stands on
 //! `z = 0`), +z up and, for objects with a handle, the handle towards +x.
 
-use std::sync::Arc;
-
-use nalgebra::{Isometry3, Matrix3, Point3, Vector3};
-use opengrasp_core::model::{Geometry, Inertial, Shape, TriangleMesh};
-use opengrasp_core::scene::SceneObject;
+use nalgebra::{Matrix3, Point3, Vector3};
+use opengrasp_core::model::TriangleMesh;
 
 use crate::error::{AssetError, Result};
-use crate::mesh::{box_shell, circle_ring, handle_shell, lathe, mass_properties, superellipse_ring, MeshBuilder};
+use crate::mesh::{box_shell, circle_ring, handle_shell, lathe, superellipse_ring, MeshBuilder};
 
 /// Segments of every circle of revolution (a multiple of 4, so bounding boxes are exact).
 const SEGMENTS: usize = 48;
 
-/// A graspable rigid object: closed triangle mesh, mass properties and friction.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ObjectModel {
-    /// Unique name (`salt_can`, `white_cup`, ...).
-    pub name: String,
-    /// Closed, outward-oriented surface in the object frame (m).
-    pub mesh: Arc<TriangleMesh>,
-    /// Mass (kg), centre of mass and inertia about it (object axes).
-    pub inertial: Inertial,
-    /// Coulomb friction coefficient against the hand's finger pads.
-    pub friction: f64,
-}
-
-impl ObjectModel {
-    /// A user object from a closed mesh (e.g. loaded with `opengrasp_core::mesh_io`), with the
-    /// mass spread uniformly over the enclosed volume.
-    ///
-    /// # Errors
-    /// [`AssetError::InvalidParameter`] for a non-positive or non-finite mass, a negative
-    /// friction, or a mesh that is not closed and outward-oriented (its signed volume must be
-    /// positive).
-    pub fn from_mesh(name: impl Into<String>, mesh: TriangleMesh, mass: f64, friction: f64) -> Result<Self> {
-        let bad = |name: &str, reason: String| AssetError::InvalidParameter { name: name.into(), reason };
-        if !(mass.is_finite() && mass > 0.0) {
-            return Err(bad("mass", format!("must be finite and > 0, got {mass}")));
-        }
-        if !(friction.is_finite() && friction >= 0.0) {
-            return Err(bad("friction", format!("must be finite and >= 0, got {friction}")));
-        }
-        if !mesh.is_watertight() || mesh.signed_volume() <= 0.0 {
-            return Err(bad(
-                "mesh",
-                format!("must be closed and outward-oriented (signed volume {:e} m³)", mesh.signed_volume()),
-            ));
-        }
-        let (_, com, inertia) = mass_properties(&mesh, mass);
-        let inertial = Inertial { origin: Isometry3::translation(com.x, com.y, com.z), mass, inertia };
-        Ok(Self { name: name.into(), mesh: Arc::new(mesh), inertial, friction })
-    }
-
-    /// Mass (kg).
-    pub fn mass(&self) -> f64 {
-        self.inertial.mass
-    }
-
-    /// Centre of mass in the object frame.
-    pub fn center_of_mass(&self) -> Point3<f64> {
-        Point3::from(self.inertial.origin.translation.vector)
-    }
-
-    /// Axis-aligned size of the mesh (m).
-    pub fn size(&self) -> Vector3<f64> {
-        let (lo, hi) = self.mesh.aabb();
-        hi - lo
-    }
-
-    /// The mesh as a shape at the object origin.
-    pub fn shape(&self) -> Shape {
-        Shape::at_origin(Geometry::Mesh(self.mesh.clone()))
-    }
-
-    /// The object as a movable scene object at `pose`.
-    pub fn to_scene_object(&self, pose: Isometry3<f64>) -> SceneObject {
-        SceneObject {
-            name: self.name.clone(),
-            pose,
-            shapes: vec![self.shape()],
-            mass: self.inertial.mass,
-            center_of_mass: self.center_of_mass(),
-            inertia: self.inertial.inertia,
-            friction: self.friction,
-        }
-    }
-}
+pub use opengrasp_core::object::ObjectModel;
 
 /// Names of the stock objects, in the order of [`all`].
 pub const NAMES: [&str; 9] = [
@@ -126,7 +50,7 @@ pub fn by_name(name: &str) -> Result<ObjectModel> {
         "measuring_cup" => (measuring_cup()?, 0.12, 0.4),
         _ => return Err(AssetError::UnknownAsset { kind: "object", name: name.to_string() }),
     };
-    ObjectModel::from_mesh(name, mesh, mass, friction)
+    Ok(ObjectModel::from_mesh(name, mesh, mass, friction)?)
 }
 
 /// Bread box: 245 × 125 × 95 mm rounded carton.
@@ -219,6 +143,6 @@ fn measuring_cup() -> Result<TriangleMesh> {
 
 /// Inertia of a closed mesh scaled to `mass`, exposed for user meshes.
 pub fn mesh_inertia(mesh: &TriangleMesh, mass: f64) -> (Point3<f64>, Matrix3<f64>) {
-    let (_, com, inertia) = mass_properties(mesh, mass);
+    let (_, com, inertia) = opengrasp_core::object::mass_properties(mesh, mass);
     (com, inertia)
 }

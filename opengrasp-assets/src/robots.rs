@@ -261,5 +261,5 @@ fn build_armar3() -> Result<Robot> {
 /// # Errors
 /// [`crate::AssetError::Core`] if the robot lacks the hand's links or joints.
 pub fn armar3_right_hand(robot: impl Into<std::sync::Arc<Robot>>) -> Result<Hand> {
-    Hand::from_robot(robot, armar3_hand_spec("right_hand_"))
+    Ok(Hand::from_robot(robot, armar3_hand_spec("right_hand_"))?)
 }

@@ -228,15 +228,15 @@ fn bad_hand_specs_and_inputs_are_errors() {
     assert!(Hand::from_robot(robot.clone(), spec).is_err());
     let mut spec = hands::barrett_spec("");
     spec.approach = Vector3::zeros();
-    assert!(matches!(
-        Hand::from_robot(robot.clone(), spec),
-        Err(opengrasp_assets::AssetError::InvalidParameter { .. })
-    ));
+    assert!(matches!(Hand::from_robot(robot.clone(), spec), Err(opengrasp_core::CoreError::InvalidParameter { .. })));
     let mut spec = hands::barrett_spec("");
     spec.closing.push(("f1_j3".into(), 1.0)); // a mimic joint is not actuated
     assert!(Hand::from_robot(robot.clone(), spec).is_err());
     let h = hands::barrett();
-    assert!(h.preshape_configuration("fist", &h.open_configuration()).is_err());
+    assert!(matches!(
+        h.preshape_configuration("fist", &h.open_configuration()),
+        Err(opengrasp_core::CoreError::UnknownPreshape { .. })
+    ));
     assert!(h.preshape_configuration("open", &[0.0; 2]).is_err());
     assert!(h.close_step(&h.open_configuration(), 0.1, &[true]).is_err());
     // Closing moves only the finger flexion dofs, by step x velocity, and stops at the limits.

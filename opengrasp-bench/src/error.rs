@@ -50,6 +50,12 @@ pub enum Error {
         /// What is wrong.
         reason: String,
     },
+    /// A model (hand, object, robot) could not be loaded.
+    #[error(transparent)]
+    Core(#[from] opengrasp_core::CoreError),
+    /// A stock model could not be built.
+    #[error(transparent)]
+    Asset(#[from] opengrasp_assets::AssetError),
     /// The grasp benchmark failed.
     #[error(transparent)]
     Grasp(#[from] opengrasp_grasp::GraspError),

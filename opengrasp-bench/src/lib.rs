@@ -5,6 +5,10 @@
 //! reports and logs:
 //!
 //! - [`suite`]: the [`Suite`](suite::Suite) builder (planners, hands, objects, scenes, sizes);
+//! - [`scenes`] and [`clean_table`]: the standard motion scenes on the stock kitchen and
+//!   humanoid (scenes 1 and 2, their 7-DoF stand-ins, and scene 3, Clean the Table);
+//! - [`stock`]: the stock hands and objects by name, user ones by path;
+//! - [`paper`]: the OpenGRASP paper's published figures;
 //! - [`results`]: results files with provenance, written atomically and validated on load;
 //! - [`report`]: the paper's Tables I–III (terminal, Markdown, CSV) with medians and
 //!   percentiles;
@@ -39,12 +43,16 @@
 /// The version of this crate (recorded in results files' provenance).
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");
 
+pub mod clean_table;
 pub mod error;
 pub mod ompl;
+pub mod paper;
 #[cfg(feature = "plots")]
 pub mod plots;
 pub mod report;
 pub mod results;
+pub mod scenes;
+pub mod stock;
 pub mod suite;
 
 pub use error::{Error, Result};

@@ -16,7 +16,7 @@
 
 use std::fmt::Write as _;
 
-use opengrasp_grasp::benchmark::{PAPER_OBJECTS, PAPER_RESULTS};
+use crate::paper::{PAPER_OBJECTS, PAPER_RESULTS};
 use opengrasp_motion::metrics::Stats;
 
 use crate::results::{motion_summaries, GraspSection, MotionSection, ResultsFile};

@@ -15,10 +15,10 @@
 //! | size | grasp | motion |
 //! | --- | --- | --- |
 //! | `Tiny` | salt can, Barrett hand, 4 candidates per cell | planar 2-link arm ([`planar_scene`]), RRT-Connect + PRM (200 nodes), 2 runs |
-//! | `Default` | the 8 paper objects × ARMAR-III and Barrett hands, at most 128 candidates per cell (even stride over each planner's list), physics hold check of 2 force-closure palm grasps per cell | the 4 scenes of [`opengrasp_motion::scenes`] (ARMAR-III kitchen standard and IK-based, their 7-DoF stand-ins), RRT-Connect, PRM (600 nodes; 150 on the IK-based scenes, whose setup runs every run), IK-RRT (IK-based scenes only), 20 runs; 1 Clean the Table episode for RRT-Connect and IK-RRT |
+//! | `Default` | the 8 paper objects × ARMAR-III and Barrett hands, at most 128 candidates per cell (even stride over each planner's list), physics hold check of 2 force-closure palm grasps per cell | the 4 scenes of [`crate::scenes`] (ARMAR-III kitchen standard and IK-based, their 7-DoF stand-ins), RRT-Connect, PRM (600 nodes; 150 on the IK-based scenes, whose setup runs every run), IK-RRT (IK-based scenes only), 20 runs; 1 Clean the Table episode for RRT-Connect and IK-RRT |
 //! | `Paper` | every candidate (Tables I and II), physics check of 5 grasps per cell | as `Default` with 100 runs (Table III) and 5 Clean the Table episodes |
 //!
-//! Clean the Table (scene 3, [`opengrasp_motion::clean_table`]) runs whole episodes: its
+//! Clean the Table (scene 3, [`crate::clean_table`]) runs whole episodes: its
 //! grasp and place queries are filed as runs of [`CLEAN_THE_TABLE_SCENE`] (run
 //! `episode · 8 + 2 · object + {0: grasp, 1: place}`) and each episode as an
 //! [`EpisodeRecord`].
@@ -48,27 +48,31 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
 
+use crate::clean_table::{clean_the_table, CleanTheTableOptions, TABLE_OBJECTS};
+use crate::scenes::{armar_ik_scene, armar_standard_scene, ik_scene, standard_scene, CheckerKind};
 use nalgebra::{Isometry3, Vector3};
+use opengrasp_core::hand::Hand;
 use opengrasp_core::model::{samples, JointGroup};
-use opengrasp_grasp::benchmark::{run_grasp_benchmark_with, BenchmarkHand, GraspBenchmarkConfig, PAPER_OBJECTS};
+use opengrasp_core::object::ObjectModel;
+use opengrasp_grasp::benchmark::{run_grasp_benchmark_with, GraspBenchmarkConfig};
 use opengrasp_grasp::planners::{GraspPlanner, MedialAxisPlanner, SurfaceNormalPlanner};
 use opengrasp_motion::benchmark::{
     run_benchmark, BenchmarkOptions, BenchmarkScene, RunRecord, RunStatus, SceneInstance, Summary,
 };
-use opengrasp_motion::clean_table::{clean_the_table, CleanTheTableOptions, TABLE_OBJECTS};
 use opengrasp_motion::planners::{IkRrt, Prm, PrmOptions, RrtConnect};
-use opengrasp_motion::scenes::{armar_ik_scene, armar_standard_scene, ik_scene, standard_scene, CheckerKind};
 use opengrasp_motion::validity::{ObstacleBox, SphereWorld};
 use opengrasp_motion::{Goal, MotionPlanner};
 use rayon::prelude::*;
 
+use crate::paper::PAPER_OBJECTS;
 use crate::results::{
     Category, EpisodeRecord, Error, GraspRecord, GraspSection, MotionSection, PlannerInfo, Provenance, Result,
     ResultsFile,
 };
+use crate::stock::{stock_hand, stock_object};
 
 /// Scene name of the Clean the Table queries in the results (scene 3).
-pub const CLEAN_THE_TABLE_SCENE: &str = opengrasp_motion::clean_table::SCENE_NAME;
+pub const CLEAN_THE_TABLE_SCENE: &str = crate::clean_table::SCENE_NAME;
 
 /// Size of the reference suite (see the [module docs](self) for what each contains).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -209,6 +213,9 @@ impl Suite {
 
     /// Adds the reference grasp planners (medial axis, surface normals) and sets hands,
     /// objects and candidate count for `size`.
+    ///
+    /// # Panics
+    /// Never: the stock hands and objects it names exist (a test builds every one).
     pub fn with_reference_grasp(mut self, size: SuiteSize) -> Self {
         let ma = self.grasp.medial_axis.clone();
         let sn = self.grasp.surface_normal.clone();
@@ -219,12 +226,13 @@ impl Suite {
         self.grasp.physics_per_cell = size.physics_per_cell();
         match size {
             SuiteSize::Tiny => {
-                self.grasp.objects = vec!["salt_can".into()];
-                self.grasp.hands = vec![BenchmarkHand::Barrett];
+                self.grasp.objects = vec![stock_object("salt_can").expect("a stock object")];
+                self.grasp.hands = vec![stock_hand("barrett").expect("a stock hand")];
             }
             SuiteSize::Default | SuiteSize::Paper => {
-                self.grasp.objects = PAPER_OBJECTS.iter().map(|(_, n)| n.to_string()).collect();
-                self.grasp.hands = vec![BenchmarkHand::Armar3, BenchmarkHand::Barrett];
+                self.grasp.objects =
+                    PAPER_OBJECTS.iter().map(|(_, n)| stock_object(n).expect("a stock object")).collect();
+                self.grasp.hands = ["armar3", "barrett"].map(|h| stock_hand(h).expect("a stock hand")).to_vec();
             }
         }
         self.size_label = size.name().into();
@@ -328,14 +336,14 @@ impl Suite {
         self
     }
 
-    /// Sets the grasp hands.
-    pub fn hands(mut self, hands: Vec<BenchmarkHand>) -> Self {
+    /// Sets the grasp hands (stock ones from [`crate::stock`], or any [`Hand`]).
+    pub fn hands(mut self, hands: Vec<Hand>) -> Self {
         self.grasp.hands = hands;
         self
     }
 
-    /// Sets the grasp objects (asset names, see `opengrasp_assets::objects::NAMES`).
-    pub fn objects(mut self, objects: Vec<String>) -> Self {
+    /// Sets the grasp objects (stock ones from [`crate::stock`], or any [`ObjectModel`]).
+    pub fn objects(mut self, objects: Vec<ObjectModel>) -> Self {
         self.grasp.objects = objects;
         self
     }
@@ -361,7 +369,7 @@ impl Suite {
 
     /// Sets the Clean the Table episodes per motion planner (0: none). Each episode carries
     /// the red table's four objects to the sideboard (scene 3, see
-    /// [`opengrasp_motion::clean_table`]); every motion planner runs them unless it was added
+    /// [`crate::clean_table`]); every motion planner runs them unless it was added
     /// with [`Suite::motion_planner_on`] without [`CLEAN_THE_TABLE_SCENE`] in its list.
     pub fn clean_the_table(mut self, episodes: usize) -> Self {
         self.episodes = episodes;
@@ -508,15 +516,15 @@ impl Suite {
     }
 
     fn run_grasp(&self) -> Result<GraspSection> {
-        let jobs: Vec<(BenchmarkHand, &String)> =
-            self.grasp.hands.iter().flat_map(|&h| self.grasp.objects.iter().map(move |o| (h, o))).collect();
+        let jobs: Vec<(&Hand, &ObjectModel)> =
+            self.grasp.hands.iter().flat_map(|h| self.grasp.objects.iter().map(move |o| (h, o))).collect();
         let planners: Vec<&dyn GraspPlanner> = self.grasp_planners.iter().map(|p| &*p.planner).collect();
         let done = AtomicUsize::new(0);
-        let run_job = |(hand, object): &(BenchmarkHand, &String)| -> Result<Vec<GraspRecord>> {
+        let run_job = |&(hand, object): &(&Hand, &ObjectModel)| -> Result<Vec<GraspRecord>> {
             let config =
-                GraspBenchmarkConfig { hands: vec![*hand], objects: vec![(*object).clone()], ..self.grasp.clone() };
+                GraspBenchmarkConfig { hands: vec![hand.clone()], objects: vec![object.clone()], ..self.grasp.clone() };
             let results = run_grasp_benchmark_with(&config, &planners)?;
-            self.report(Category::Grasp, &done, 1, jobs.len(), format!("{}/{}", hand.name(), object));
+            self.report(Category::Grasp, &done, 1, jobs.len(), format!("{}/{}", hand.name(), object.name));
             Ok(results.cells.into_iter().map(|cell| GraspRecord { seed: config.seed, cell }).collect())
         };
         let per_job: Vec<Result<Vec<GraspRecord>>> =
@@ -528,7 +536,7 @@ impl Suite {
         Ok(GraspSection {
             seed: self.grasp.seed,
             hands: self.grasp.hands.iter().map(|h| h.name().to_string()).collect(),
-            objects: self.grasp.objects.clone(),
+            objects: self.grasp.objects.iter().map(|o| o.name.clone()).collect(),
             max_candidates: self.grasp.max_candidates,
             planners: self.grasp_planners.iter().map(|p| p.info.clone()).collect(),
             cells,

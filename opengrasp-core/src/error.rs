@@ -125,6 +125,28 @@ pub enum CoreError {
         /// Why it is invalid.
         reason: String,
     },
+    /// A hand has no preshape of this name.
+    #[error("unknown preshape `{name}`")]
+    UnknownPreshape {
+        /// The name asked for.
+        name: String,
+    },
+    /// A description file (hand spec, object metadata) is not valid JSON of its format.
+    #[error("malformed description file {}: {reason}", path.display())]
+    MalformedSpec {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong (the parser's message with line and column).
+        reason: String,
+    },
+    /// A file is larger than the loader accepts.
+    #[error("{} is larger than the limit of {limit} bytes", path.display())]
+    FileTooLarge {
+        /// The file.
+        path: PathBuf,
+        /// The limit (bytes).
+        limit: u64,
+    },
     /// A scene has nothing to operate on (no bodies, objects or robots where one is needed).
     #[error("empty scene: {reason}")]
     EmptyScene {

@@ -4,8 +4,10 @@
 //! planning: robot models ([`model`]) built in code or loaded from URDF ([`urdf`]) with joint
 //! groups and allowed collisions from SRDF ([`srdf`]), forward and
 //! inverse kinematics ([`kinematics`]), scenes ([`scene`]), collision, distance and contact
-//! queries on parry3d ([`collision`]), and the [`physics::PhysicsEngine`] trait with a rapier
-//! backend and a deterministic mock.
+//! queries on parry3d ([`collision`]), the [`physics::PhysicsEngine`] trait with a rapier
+//! backend and a deterministic mock, and the plain model types users describe their own hands
+//! ([`hand::Hand`]: a robot plus a [`hand::HandSpec`]) and objects ([`object::ObjectModel`]:
+//! a mesh plus mass and friction) with.
 //!
 //! All quantities are `f64` in SI units (metres, radians, newtons, seconds); poses are
 //! `nalgebra::Isometry3<f64>`.
@@ -17,11 +19,14 @@ pub const VERSION: &str = env!("CARGO_PKG_VERSION");
 
 pub mod collision;
 pub mod error;
+pub mod hand;
 pub mod kinematics;
 pub mod mesh_io;
 pub mod model;
+pub mod object;
 pub mod physics;
 pub mod scene;
+pub mod spec_file;
 pub mod srdf;
 pub mod urdf;
 

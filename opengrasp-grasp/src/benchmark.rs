@@ -2,28 +2,49 @@
 //! Tables I and II): planners × hands × objects, every candidate graded by the one shared
 //! [`GraspEvaluator`].
 //!
+//! Hands, objects and planners are values: the stock ones of `opengrasp-assets`, a hand loaded
+//! from a URDF and a spec file ([`Hand::load`]), an object from a mesh and a metadata file
+//! ([`ObjectModel::load`]), any [`GraspPlanner`].
+//!
 //! For each cell the benchmark reports what the paper reports (candidates tested and the
 //! percentage of force-closure grasps among the grasps whose palm touches the object) and more:
 //! force closure over all candidates, mean and median Ferrari-Canny epsilon of the force-closure
 //! grasps, the physics-check success rate on a subset, and the evaluation throughput.
 //!
 //! ```
-//! use opengrasp_grasp::benchmark::{run_grasp_benchmark, BenchmarkHand, GraspBenchmarkConfig};
+//! use opengrasp_core::hand::{FingerSpec, Hand, HandSpec, PreshapeSpec};
+//! use opengrasp_core::model::{samples, TriangleMesh};
+//! use opengrasp_core::object::ObjectModel;
+//! use opengrasp_grasp::benchmark::{run_grasp_benchmark, GraspBenchmarkConfig};
+//! # use nalgebra::{Isometry3, Vector3};
 //!
-//! # fn main() -> opengrasp_grasp::Result<()> {
-//! // A quick run: one object, one hand, 4 candidates per planner (the full run uses the
-//! // defaults: 8 objects, 2 hands, every candidate).
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! // A two-finger parallel gripper built in code, and a 5 cm cube.
+//! let gripper = samples::parallel_gripper(0.1)?;
+//! let spec = HandSpec {
+//!     urdf: None,
+//!     palm_link: "palm".into(),
+//!     palm_frame: Isometry3::identity(),
+//!     approach: Vector3::z(),
+//!     preshapes: vec![PreshapeSpec { name: "open".into(), joints: vec![("left_joint".into(), 0.05)] }],
+//!     fingers: vec![
+//!         FingerSpec { name: "left".into(), links: vec!["left_finger".into()] },
+//!         FingerSpec { name: "right".into(), links: vec!["right_finger".into()] },
+//!     ],
+//!     closing: vec![("left_joint".into(), -0.05)],
+//!     tactile_links: vec![],
+//! };
+//! let cube = ObjectModel::from_mesh("cube", TriangleMesh::cuboid(Vector3::repeat(0.05))?, 0.1, 0.5)?;
 //! let config = GraspBenchmarkConfig {
-//!     objects: vec!["salt_can".into()],
-//!     hands: vec![BenchmarkHand::Barrett],
+//!     hands: vec![Hand::from_robot(gripper, spec)?],
+//!     objects: vec![cube],
 //!     max_candidates: Some(4),
 //!     ..Default::default()
 //! };
+//! // The two reference planners (medial axis, surface normals).
 //! let results = run_grasp_benchmark(&config)?;
-//! assert_eq!(results.cells.len(), 2); // medial axis and surface normals
-//! println!("{}", results.table("barrett"));
-//! let json = results.to_json()?;
-//! assert!(json.contains("\"planner\": \"medial-axis\""));
+//! assert_eq!(results.cells.len(), 2);
+//! println!("{}", results.table("parallel_gripper"));
 //! # Ok(())
 //! # }
 //! ```
@@ -31,100 +52,25 @@
 use std::time::Instant;
 
 use nalgebra::Isometry3;
-use opengrasp_assets::hands::{self, Hand};
-use opengrasp_assets::objects::{self, ObjectModel};
+use opengrasp_core::hand::Hand;
+use opengrasp_core::object::ObjectModel;
 use serde::{Deserialize, Serialize};
 
-use crate::error::{GraspError, Result};
+use crate::error::Result;
 use crate::evaluator::{EvaluationStatus, EvaluatorOptions, GraspEvaluator, PhysicsCheckOptions};
 use crate::planners::{
     GraspCandidate, GraspPlanner, GraspRequest, MedialAxisOptions, MedialAxisPlanner, SurfaceNormalOptions,
     SurfaceNormalPlanner,
 };
 
-/// The eight objects of the paper's Tables I and II: `(row label, asset name)`.
-pub const PAPER_OBJECTS: [(&str, &str); 8] = [
-    ("Bread box", "bread_box"),
-    ("Prismatic box", "chocolate_box"),
-    ("Salt box", "salt_box"),
-    ("Salt can", "salt_can"),
-    ("Detergent", "detergent_bottle"),
-    ("Spray", "spray_bottle"),
-    ("White cup", "white_cup"),
-    ("Green cup", "green_cup"),
-];
-
-/// The paper's numbers: `(object, hand, planner, candidates, FC %)`, hands `"armar3"` (Table I)
-/// and `"barrett"` (Table II), planners `"medial-axis"` and `"surface-normals"`.
-pub const PAPER_RESULTS: [(&str, &str, &str, usize, f64); 32] = [
-    ("bread_box", "armar3", "medial-axis", 296, 99.0),
-    ("bread_box", "armar3", "surface-normals", 842, 16.5),
-    ("chocolate_box", "armar3", "medial-axis", 516, 99.8),
-    ("chocolate_box", "armar3", "surface-normals", 520, 43.8),
-    ("salt_box", "armar3", "medial-axis", 408, 85.8),
-    ("salt_box", "armar3", "surface-normals", 408, 41.2),
-    ("salt_can", "armar3", "medial-axis", 1072, 80.0),
-    ("salt_can", "armar3", "surface-normals", 616, 48.4),
-    ("detergent_bottle", "armar3", "medial-axis", 1022, 87.6),
-    ("detergent_bottle", "armar3", "surface-normals", 928, 38.5),
-    ("spray_bottle", "armar3", "medial-axis", 590, 77.5),
-    ("spray_bottle", "armar3", "surface-normals", 762, 29.5),
-    ("white_cup", "armar3", "medial-axis", 732, 81.1),
-    ("white_cup", "armar3", "surface-normals", 456, 48.2),
-    ("green_cup", "armar3", "medial-axis", 514, 51.8),
-    ("green_cup", "armar3", "surface-normals", 496, 52.0),
-    ("bread_box", "barrett", "medial-axis", 296, 66.9),
-    ("bread_box", "barrett", "surface-normals", 842, 11.8),
-    ("chocolate_box", "barrett", "medial-axis", 516, 20.2),
-    ("chocolate_box", "barrett", "surface-normals", 520, 19.2),
-    ("salt_box", "barrett", "medial-axis", 408, 94.4),
-    ("salt_box", "barrett", "surface-normals", 408, 47.3),
-    ("salt_can", "barrett", "medial-axis", 1072, 91.4),
-    ("salt_can", "barrett", "surface-normals", 616, 44.2),
-    ("detergent_bottle", "barrett", "medial-axis", 1022, 49.5),
-    ("detergent_bottle", "barrett", "surface-normals", 928, 25.8),
-    ("spray_bottle", "barrett", "medial-axis", 590, 44.1),
-    ("spray_bottle", "barrett", "surface-normals", 762, 13.9),
-    ("white_cup", "barrett", "medial-axis", 732, 63.8),
-    ("white_cup", "barrett", "surface-normals", 456, 37.5),
-    ("green_cup", "barrett", "medial-axis", 514, 34.8),
-    ("green_cup", "barrett", "surface-normals", 496, 36.1),
-];
-
-/// A hand of the benchmark.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub enum BenchmarkHand {
-    /// The Barrett BH8-262 ([`hands::barrett`]).
-    Barrett,
-    /// The ARMAR-III five-finger hand ([`hands::armar3_hand`]).
-    Armar3,
-}
-
-impl BenchmarkHand {
-    /// Short name used in results (`"barrett"`, `"armar3"`).
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Barrett => "barrett",
-            Self::Armar3 => "armar3",
-        }
-    }
-
-    /// The hand model.
-    pub fn hand(self) -> Hand {
-        match self {
-            Self::Barrett => hands::barrett(),
-            Self::Armar3 => hands::armar3_hand(),
-        }
-    }
-}
-
 /// Configuration of [`run_grasp_benchmark`].
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct GraspBenchmarkConfig {
-    /// Asset names of the objects. Default: the eight objects of [`PAPER_OBJECTS`].
-    pub objects: Vec<String>,
-    /// Hands. Default: ARMAR-III (Table I) and Barrett (Table II).
-    pub hands: Vec<BenchmarkHand>,
+    /// The objects. Default: none (the standard suite uses the paper's eight KIT objects).
+    pub objects: Vec<ObjectModel>,
+    /// The hands, named in the results by [`Hand::name`]. Default: none (the standard suite
+    /// uses the ARMAR-III hand, Table I, and the Barrett hand, Table II).
+    pub hands: Vec<Hand>,
     /// Options of the surface-normal planner. Default: OpenRAVE's defaults.
     pub surface_normal: SurfaceNormalOptions,
     /// Options of the medial-axis planner. Default: [`MedialAxisOptions::default`].
@@ -144,23 +90,6 @@ pub struct GraspBenchmarkConfig {
     /// Keep one [`CandidateRecord`] per evaluated candidate in [`CellResult::candidates`]
     /// (about 1.6 kB each in pretty JSON: 6.4 MB for the default suite). Default: false.
     pub record_candidates: bool,
-}
-
-impl Default for GraspBenchmarkConfig {
-    fn default() -> Self {
-        Self {
-            objects: PAPER_OBJECTS.iter().map(|(_, n)| n.to_string()).collect(),
-            hands: vec![BenchmarkHand::Armar3, BenchmarkHand::Barrett],
-            surface_normal: SurfaceNormalOptions::default(),
-            medial_axis: MedialAxisOptions::default(),
-            evaluator: EvaluatorOptions::default(),
-            seed: 0,
-            max_candidates: None,
-            physics_per_cell: 0,
-            physics: PhysicsCheckOptions::default(),
-            record_candidates: false,
-        }
-    }
 }
 
 /// One evaluated candidate, for inspecting or re-scoring a planner's grasps.
@@ -260,44 +189,42 @@ impl GraspBenchmarkResults {
     /// Serialises the results as pretty JSON.
     ///
     /// # Errors
-    /// [`GraspError::Other`] if serialisation fails.
+    /// [`GraspError::Json`](crate::GraspError::Json) if serialisation fails.
     pub fn to_json(&self) -> Result<String> {
-        serde_json::to_string_pretty(self).map_err(|e| GraspError::Other(Box::new(e)))
+        Ok(serde_json::to_string_pretty(self)?)
     }
 
-    /// The paper-shaped table for one hand: per object, candidates tested and FC % for both
-    /// planners, next to the paper's numbers, plus epsilon and physics columns.
+    /// A plain-text table for one hand: a row per object, a column per planner with the
+    /// palm-contact candidates, force closure among them and among all candidates (the
+    /// harness's reports add the paper's numbers).
     pub fn table(&self, hand: &str) -> String {
-        let mut out = String::new();
-        out.push_str(&format!(
-            "{:<14} | {:>30} | {:>30}\n",
-            "hand: ".to_string() + hand,
-            "medial-axis: palm/FC%/paper",
-            "surface-normals: palm/FC%/paper"
-        ));
+        let cells: Vec<&CellResult> = self.cells.iter().filter(|c| c.hand == hand).collect();
         let mut objects: Vec<&str> = Vec::new();
-        for c in self.cells.iter().filter(|c| c.hand == hand) {
+        let mut planners: Vec<&str> = Vec::new();
+        for c in &cells {
             if !objects.contains(&c.object.as_str()) {
                 objects.push(&c.object);
             }
+            if !planners.contains(&c.planner.as_str()) {
+                planners.push(&c.planner);
+            }
         }
+        let mut out = format!("{:<18}", format!("hand: {hand}"));
+        for p in &planners {
+            out.push_str(&format!(" | {:>26}", format!("{p}: palm/FC%")));
+        }
+        out.push('\n');
         for o in objects {
-            let label = PAPER_OBJECTS.iter().find(|(_, n)| *n == o).map_or(o, |(l, _)| l);
-            let mut row = format!("{label:<14}");
-            for planner in ["medial-axis", "surface-normals"] {
-                let paper = PAPER_RESULTS
-                    .iter()
-                    .find(|r| r.0 == o && r.1 == hand && r.2 == planner)
-                    .map_or("-".to_string(), |r| format!("{}/{:.1}%", r.3, r.4));
-                match self.cell(planner, hand, o) {
-                    Some(c) => row.push_str(&format!(
-                        " | {:>5} {:>5.1}% (all {:>5.1}%) {:>12}",
-                        c.palm_contact, c.fc_percent_palm, c.fc_percent_all, paper
+            out.push_str(&format!("{o:<18}"));
+            for p in &planners {
+                match self.cell(p, hand, o) {
+                    Some(c) => out.push_str(&format!(
+                        " | {:>5} {:>5.1}% (all {:>5.1}%)",
+                        c.palm_contact, c.fc_percent_palm, c.fc_percent_all
                     )),
-                    None => row.push_str(&format!(" | {:>30}", "-")),
+                    None => out.push_str(&format!(" | {:>26}", "-")),
                 }
             }
-            out.push_str(&row);
             out.push('\n');
         }
         out
@@ -319,21 +246,15 @@ pub fn run_grasp_benchmark(config: &GraspBenchmarkConfig) -> Result<GraspBenchma
 /// Runs `planners` × the configured hands × objects through the shared evaluator.
 ///
 /// # Errors
-/// [`GraspError::Other`] for an unknown object name; planner errors; evaluator errors.
+/// Planner errors; evaluator errors.
 pub fn run_grasp_benchmark_with(
     config: &GraspBenchmarkConfig,
     planners: &[&dyn GraspPlanner],
 ) -> Result<GraspBenchmarkResults> {
-    let objects: Vec<ObjectModel> = config
-        .objects
-        .iter()
-        .map(|n| objects::by_name(n).map_err(|e| GraspError::Other(Box::new(e))))
-        .collect::<Result<_>>()?;
     let mut cells = Vec::new();
-    for &bh in &config.hands {
-        let hand = bh.hand();
-        for object in &objects {
-            let mut evaluator = GraspEvaluator::new(&hand, object, config.evaluator.clone())?;
+    for hand in &config.hands {
+        for object in &config.objects {
+            let mut evaluator = GraspEvaluator::new(hand, object, config.evaluator.clone())?;
             let info = evaluator.hand_info().clone();
             for planner in planners {
                 let t0 = Instant::now();
@@ -370,7 +291,7 @@ pub fn run_grasp_benchmark_with(
                     let m = config.physics_per_cell.min(fc_palm.len());
                     for j in 0..m {
                         let k = fc_palm[j * fc_palm.len() / m];
-                        let outcome = crate::evaluator::physics_check(&hand, object, &evaluations[k], &config.physics)?;
+                        let outcome = crate::evaluator::physics_check(hand, object, &evaluations[k], &config.physics)?;
                         physics_tested += 1;
                         physics_held += usize::from(outcome.held());
                         held_by_evaluation[k] = Some(outcome.held());
@@ -402,7 +323,7 @@ pub fn run_grasp_benchmark_with(
                 let pct = |a: usize, b: usize| if b == 0 { 0.0 } else { 100.0 * a as f64 / b as f64 };
                 cells.push(CellResult {
                     planner: planner.name().to_string(),
-                    hand: bh.name().to_string(),
+                    hand: hand.name().to_string(),
                     object: object.name.clone(),
                     generated: candidates.len(),
                     evaluated: evaluations.len(),

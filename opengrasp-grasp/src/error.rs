@@ -70,6 +70,9 @@ pub enum GraspError {
     /// An error from `opengrasp-core`.
     #[error(transparent)]
     Core(#[from] CoreError),
+    /// Serialising results as JSON failed.
+    #[error("cannot serialise results: {0}")]
+    Json(#[from] serde_json::Error),
     /// Any other error, e.g. from a user's grasp planner.
     #[error(transparent)]
     Other(#[from] Box<dyn std::error::Error + Send + Sync>),

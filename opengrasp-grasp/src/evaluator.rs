@@ -21,8 +21,8 @@
 use std::sync::Arc;
 
 use nalgebra::{Isometry3, Point3, Translation3, Unit, Vector3};
-use opengrasp_assets::hands::Hand;
 use opengrasp_core::collision::{CollisionOptions, CollisionWorld, Contact as CoreContact, MeshRepresentation};
+use opengrasp_core::hand::Hand;
 use opengrasp_core::kinematics::forward_kinematics;
 use opengrasp_core::model::{JointKind, LinkId, Shape, TriangleMesh};
 use opengrasp_core::physics::{PhysicsEngine, PhysicsOptions, RapierBackend};
@@ -34,7 +34,7 @@ use crate::error::{GraspError, Result};
 use crate::planners::{any_perpendicular, GraspCandidate, HandInfo, Preshape};
 use crate::quality::hull::{ConvexHull, HullOptions};
 use crate::quality::{GraspQuality, QualityOptions, QualityReport, RobustEpsilon, RobustOptions};
-use opengrasp_assets::objects::ObjectModel;
+use opengrasp_core::object::ObjectModel;
 
 /// Options of the [`GraspEvaluator`].
 #[derive(Clone, Debug, PartialEq)]
@@ -362,7 +362,7 @@ fn hand_data(hand: &Hand) -> Result<HandData> {
     let mut preshape_q = Vec::new();
     let home = robot.home_configuration();
     for p in hand.preshapes() {
-        let q = hand.preshape_configuration(&p.name, &home).map_err(|e| GraspError::Other(Box::new(e)))?;
+        let q = hand.preshape_configuration(&p.name, &home)?;
         let fkp = forward_kinematics(robot, &q)?;
         root_from_palm.push(fkp.as_slice()[hand.palm().0] * hand.palm_frame());
         preshape_q.push(q);

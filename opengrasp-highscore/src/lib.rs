@@ -415,20 +415,19 @@ pub fn slug(name: &str) -> String {
     out
 }
 
-/// The benchmarks every database starts with: one per benchmark hand of
-/// [`opengrasp_grasp::benchmark::BenchmarkHand`], one per scene of [`opengrasp_motion::scenes`],
+/// The benchmarks every database starts with: one per stock hand
+/// ([`opengrasp_bench::stock::HAND_NAMES`]), one per scene of [`opengrasp_bench::scenes`],
 /// Clean the Table ([`CLEAN_THE_TABLE_SCENE`](opengrasp_bench::suite::CLEAN_THE_TABLE_SCENE), ranked per
 /// grasp/place query) and the tiny suite's [`planar_scene`](opengrasp_bench::suite::planar_scene).
 pub fn builtin_benchmarks() -> Vec<BenchmarkInfo> {
-    use opengrasp_grasp::benchmark::BenchmarkHand;
-    use opengrasp_motion::scenes::{self, CheckerKind};
+    use opengrasp_bench::scenes::{self, CheckerKind};
     let mut out = Vec::new();
-    for hand in [BenchmarkHand::Barrett, BenchmarkHand::Armar3] {
+    for hand in opengrasp_bench::stock::HAND_NAMES {
         out.push(BenchmarkInfo {
-            id: format!("grasp/{}", slug(hand.name())),
+            id: format!("grasp/{}", slug(hand)),
             kind: BenchmarkKind::Grasp,
-            target: hand.name().to_string(),
-            description: format!("grasp planning with the {} hand on the KIT kitchen objects", hand.name()),
+            target: hand.to_string(),
+            description: format!("grasp planning with the {hand} hand on the KIT kitchen objects"),
             submissions: 0,
         });
     }

@@ -563,7 +563,12 @@ pub fn run_benchmark(
     report
 }
 
-pub(crate) fn timed_setup(
+/// Runs `planner.setup` on `instance` (seeded) and returns its wall time (s), or the error's
+/// message: how the benchmark times setup, for harnesses that drive their own query sequences.
+///
+/// # Errors
+/// The planner's setup error, as text.
+pub fn timed_setup(
     planner: &mut dyn MotionPlanner,
     instance: &SceneInstance,
     seed: u64,

@@ -63,6 +63,9 @@ pub enum MotionError {
         /// The kind of goal.
         goal: &'static str,
     },
+    /// Building a scene's world (robot, obstacles, objects) failed.
+    #[error("cannot build the scene: {0}")]
+    Scene(#[source] Box<dyn std::error::Error + Send + Sync>),
     /// A user planner's own error.
     #[error("planner error: {0}")]
     Other(Box<dyn std::error::Error + Send + Sync>),

@@ -113,7 +113,7 @@ pub struct MotionSection {
     /// One summary per scene × planner (recomputable from `runs`).
     pub summaries: Vec<Summary>,
     /// Clean the Table episodes (their grasp and place queries are in `runs`, scene
-    /// [`opengrasp_motion::clean_table::SCENE_NAME`]); absent from files without any.
+    /// [`crate::clean_table::SCENE_NAME`]); absent from files without any.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub episodes: Vec<EpisodeRecord>,
 }

@@ -194,6 +194,37 @@ impl TriangleMesh {
         Self::new(vertices, kept)
     }
 
+    /// A closed, outward-oriented box mesh of full size `size` (m) centred at the origin
+    /// (12 triangles).
+    ///
+    /// # Errors
+    /// [`CoreError::DegenerateMesh`] for a non-finite or non-positive size.
+    pub fn cuboid(size: Vector3<f64>) -> Result<Self> {
+        let h = size * 0.5;
+        let vertices = (0..8)
+            .map(|i| {
+                let sign = |bit: usize| if i & bit == 0 { -1.0 } else { 1.0 };
+                Point3::new(sign(1) * h.x, sign(2) * h.y, sign(4) * h.z)
+            })
+            .collect();
+        // Two triangles per face, counter-clockwise seen from outside.
+        let triangles = vec![
+            [0, 2, 3],
+            [0, 3, 1], // -z
+            [4, 5, 7],
+            [4, 7, 6], // +z
+            [0, 1, 5],
+            [0, 5, 4], // -y
+            [2, 6, 7],
+            [2, 7, 3], // +y
+            [0, 4, 6],
+            [0, 6, 2], // -x
+            [1, 3, 7],
+            [1, 7, 5], // +x
+        ];
+        Self::new(vertices, triangles)
+    }
+
     /// The vertices (m).
     pub fn vertices(&self) -> &[Point3<f64>] {
         &self.vertices

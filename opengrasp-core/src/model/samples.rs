@@ -134,6 +134,48 @@ pub fn seven_dof_arm() -> Result<Robot> {
     Ok(robot)
 }
 
+/// A parallel-jaw gripper: a 4 × 16 × 2 cm palm (link `palm`, top face at z = 0) and two
+/// 1 × 2 × 6 cm fingers standing on it along +z, sliding along ±y on the prismatic joints
+/// `left_joint` (actuated) and `right_joint` (mimics it). The joint value is each finger's
+/// distance from the centre plane (0 closed .. `max_opening / 2`), so the jaws are `2 q` apart.
+///
+/// # Errors
+/// [`crate::CoreError::InvalidGeometry`] for a non-finite or non-positive `max_opening`.
+pub fn parallel_gripper(max_opening: f64) -> Result<Robot> {
+    if !(max_opening.is_finite() && max_opening > 0.0) {
+        return Err(crate::CoreError::InvalidGeometry { reason: format!("max_opening {max_opening} must be > 0") });
+    }
+    let (t, w, h) = (0.01, 0.02, 0.06);
+    let palm_origin = Isometry3::translation(0.0, 0.0, -0.01);
+    let palm = Link::new("palm")
+        .with_shape(Shape::new(palm_origin, Geometry::cuboid(0.04, 0.16, 0.02)))
+        .with_inertial(Inertial::solid_box(0.2, Vector3::new(0.04, 0.16, 0.02), palm_origin));
+    let finger =
+        |name: &str, side: f64| {
+            let origin = Isometry3::translation(0.0, side * t / 2.0, h / 2.0);
+            Link::new(name)
+                .with_shape(Shape::new(origin, Geometry::cuboid(w, t, h)))
+                .with_inertial(Inertial::solid_box(0.03, Vector3::new(w, t, h), origin))
+        };
+    RobotBuilder::new("parallel_gripper")
+        .link(palm)
+        .link(finger("left_finger", 1.0))
+        .link(finger("right_finger", -1.0))
+        .joint(JointSpec::new("left_joint", JointKind::Prismatic, "palm", "left_finger").axis(Vector3::y()).limits(
+            0.0,
+            max_opening / 2.0,
+            0.1,
+            20.0,
+        ))
+        .joint(
+            JointSpec::new("right_joint", JointKind::Prismatic, "palm", "right_finger")
+                .axis(-Vector3::y())
+                .limits(0.0, max_opening / 2.0, 0.1, 20.0)
+                .mimic("left_joint", 1.0, 0.0),
+        )
+        .build()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -173,6 +215,17 @@ mod tests {
             Err(crate::CoreError::NonFiniteJointValue { .. })
         ));
         assert!(matches!(forward_kinematics(&robot, &[0.0; 6]), Err(crate::CoreError::DimensionMismatch { .. })));
+    }
+
+    #[test]
+    fn parallel_gripper_jaws_are_twice_the_joint_value_apart() {
+        let robot = parallel_gripper(0.1).unwrap();
+        assert_eq!(robot.dof(), 1);
+        let poses = forward_kinematics(&robot, &[0.03]).unwrap();
+        let left = poses[robot.link_id("left_finger").unwrap()].translation.y;
+        let right = poses[robot.link_id("right_finger").unwrap()].translation.y;
+        assert!((left - 0.03).abs() < 1e-12 && (right + 0.03).abs() < 1e-12);
+        assert!(parallel_gripper(f64::NAN).is_err());
     }
 
     #[test]

@@ -22,10 +22,10 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
-use crate::benchmark::{run_once, timed_setup, BenchmarkOptions, RunRecord, RunStatus, SceneInstance};
-use crate::error::{MotionError, Result};
-use crate::problem::{Goal, MotionPlanner, PoseGoal};
-use crate::validity::{CollisionChecker, MotionBound};
+use opengrasp_motion::benchmark::{run_once, timed_setup, BenchmarkOptions, RunRecord, RunStatus, SceneInstance};
+use opengrasp_motion::problem::{Goal, MotionPlanner, PoseGoal};
+use opengrasp_motion::validity::{CollisionChecker, MotionBound};
+use opengrasp_motion::{MotionError, Result};
 
 /// Scene name under which benchmark harnesses file the queries of Clean the Table episodes.
 pub const SCENE_NAME: &str = "clean the table";
@@ -123,7 +123,7 @@ pub fn clean_the_table(planner: &mut dyn MotionPlanner, options: &CleanTheTableO
             reason: format!("at most {} objects stand on the table", TABLE_OBJECTS.len()),
         });
     }
-    let kitchen = opengrasp_assets::scenes::kitchen().map_err(|e| MotionError::Other(Box::new(e)))?;
+    let kitchen = opengrasp_assets::scenes::kitchen().map_err(|e| MotionError::Scene(Box::new(e)))?;
     let mut scene = kitchen.scene.clone();
     let rid = kitchen.robot;
     let robot = scene.robot(rid)?.robot.clone();

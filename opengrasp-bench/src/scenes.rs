@@ -32,10 +32,10 @@ use opengrasp_core::scene::{Scene, SceneObject, StaticBody};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use crate::benchmark::{BenchmarkScene, SceneInstance};
-use crate::error::Result;
-use crate::problem::{Goal, PoseGoal};
-use crate::validity::{CollisionChecker, ObstacleBox, SphereWorld, StateValidityChecker};
+use opengrasp_motion::benchmark::{BenchmarkScene, SceneInstance};
+use opengrasp_motion::problem::{Goal, PoseGoal};
+use opengrasp_motion::validity::{CollisionChecker, ObstacleBox, SphereWorld, StateValidityChecker};
+use opengrasp_motion::Result;
 
 /// Which collision checker a stand-in scene uses.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -77,7 +77,7 @@ pub const ARMAR_GOAL_PALM: [f64; 3] = [1.85, 1.95, 1.0];
 /// computed rather than stored so that it follows changes of the asset models).
 ///
 /// # Errors
-/// [`crate::MotionError::InvalidState`] if no seed up to 50 gives a valid solution, or core
+/// [`opengrasp_motion::MotionError::InvalidState`] if no seed up to 50 gives a valid solution, or core
 /// errors.
 pub fn armar_standard_goal(
     robot: &Robot,
@@ -95,7 +95,7 @@ pub fn armar_standard_goal(
             return Ok(g);
         }
     }
-    Err(crate::MotionError::InvalidState { what: "goal" })
+    Err(opengrasp_motion::MotionError::InvalidState { what: "goal" })
 }
 
 /// The kitchen with the humanoid at [`ARMAR_BASE`], its collision checker for `group` and the
@@ -116,7 +116,7 @@ pub fn armar_kitchen_checker_with(
     group: &str,
     edit: impl FnOnce(&mut Scene) -> Result<()>,
 ) -> Result<(Arc<Robot>, JointGroup, Vec<f64>, CollisionChecker)> {
-    let kitchen = opengrasp_assets::scenes::kitchen().map_err(|e| crate::MotionError::Other(Box::new(e)))?;
+    let kitchen = opengrasp_assets::scenes::kitchen().map_err(|e| opengrasp_motion::MotionError::Scene(Box::new(e)))?;
     let mut scene = kitchen.scene.clone();
     edit(&mut scene)?;
     let robot = scene.robot(kitchen.robot)?.robot.clone();
@@ -184,7 +184,7 @@ pub fn armar_ik_scene() -> BenchmarkScene {
                 last = Some(instance);
             }
             // Not reached for the stock kitchen (checked by the tests); keep the last draw.
-            last.ok_or_else(|| crate::error::MotionError::InvalidParameter {
+            last.ok_or_else(|| opengrasp_motion::MotionError::InvalidParameter {
                 name: "placements",
                 reason: "no placement drawn".into(),
             })
@@ -228,8 +228,12 @@ fn armar_ik_instance(x: f64, y: f64, yaw: f64) -> Result<SceneInstance> {
 /// collision-free within the limits and the goal's tolerances; for configuration goals, a goal
 /// configuration is valid.
 pub fn has_reachable_goal(instance: &SceneInstance, seed: u64) -> bool {
-    let problem =
-        instance.problem(&*instance.checker, std::time::Duration::from_secs(1), seed, crate::validate::DEFAULT_STEP);
+    let problem = instance.problem(
+        &*instance.checker,
+        std::time::Duration::from_secs(1),
+        seed,
+        opengrasp_motion::validate::DEFAULT_STEP,
+    );
     match &instance.goal {
         Goal::Pose(_) => {
             let limits = problem.limits();
