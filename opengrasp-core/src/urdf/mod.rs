@@ -53,12 +53,17 @@
 //! # }
 //! ```
 
+mod limits;
+mod options;
 mod reader;
 mod resolver;
 mod writer;
 
-pub use reader::{from_str, from_urdf_rs, load_file};
-pub use resolver::{FileResolver, InMemoryResolver, MeshResolver};
+pub(crate) use limits::check_xml;
+pub use limits::XmlLimits;
+pub use options::{LoadOptions, LoadWarning, LoadedRobot, Visuals};
+pub use reader::{file_resolver, from_str, from_str_with, from_urdf_rs, from_urdf_rs_with, load_file, load_file_with};
+pub use resolver::{FileResolver, InMemoryResolver, MeshResolver, MAX_CRAWL_DEPTH};
 pub(crate) use writer::write_atomically;
 pub use writer::{export, export_with, to_urdf_string, ExportOptions, UrdfDocument};
 
