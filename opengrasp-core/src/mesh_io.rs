@@ -119,10 +119,13 @@ fn is_collada(path: &Path) -> bool {
 }
 
 /// Reads a COLLADA (`.dae`) document as one mesh: every `<geometry>` of the document, each
-/// placed by the transforms of the `<node>`s that instance it (`<matrix>`, `<translate>`,
-/// `<rotate>`, `<scale>`, nested) and scaled by `<asset><unit meter>`, concatenated (welded by
+/// placed by the transforms of the `<node>` that instances it (`<matrix>`, `<translate>`,
+/// `<rotate>`, `<scale>`) and scaled by `<asset><unit meter>`, concatenated (welded by
 /// position within each geometry). `up_axis` is ignored, as ROS tools do; a geometry instanced
-/// by several nodes is placed once, by the last. Lines, normals, texture coordinates and
+/// by several nodes is placed once, by the last. Known limit of the reader (mesh-loader 0.1):
+/// with nested nodes, or a unit other than 1 together with node translations, transforms are
+/// composed in reverse order (parent before child, unit before translation), so such files
+/// load displaced; ROS exports (one level, metres) are unaffected. Lines, normals, texture coordinates and
 /// materials are ignored; zero-area faces are dropped.
 ///
 /// The text is first checked against the default [`crate::urdf::XmlLimits`], so a deeply

@@ -57,6 +57,11 @@ use crate::urdf::XmlLimits;
 
 mod resolve;
 
+/// Most groups [`Srdf::apply`] adds to a robot (real configurations have tens; adding a
+/// group to a [`Robot`] costs time proportional to its groups, so this bounds a hostile
+/// document's cost). [`Srdf::group_joints`] has no such limit.
+pub const MAX_GROUPS: usize = 10_000;
+
 /// A `<group>`: its members as written (resolved by [`Srdf::apply`]).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SrdfGroup {
@@ -404,8 +409,17 @@ impl Srdf {
     /// disabled collision pairs. Nothing is changed if any group or pair is invalid.
     ///
     /// # Errors
-    /// As [`Srdf::group_joints`]; [`CoreError::UnknownLink`] for a pair naming an unknown link.
+    /// As [`Srdf::group_joints`]; [`CoreError::UnknownLink`] for a pair naming an unknown link;
+    /// [`CoreError::LimitExceeded`] for more than [`MAX_GROUPS`] groups.
     pub fn apply(&self, robot: &mut Robot) -> Result<SrdfReport> {
+        if self.groups.len() > MAX_GROUPS {
+            return Err(CoreError::LimitExceeded {
+                document: "srdf",
+                what: "group count",
+                limit: MAX_GROUPS,
+                actual: self.groups.len(),
+            });
+        }
         let mut report = SrdfReport::default();
         let mut resolved = Vec::new();
         let mut resolver = resolve::Resolver::new(self, robot);
