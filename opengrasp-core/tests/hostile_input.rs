@@ -210,3 +210,29 @@ fn millimetre_scale_drops_slivers_instead_of_failing() {
         other => panic!("{other:?}"),
     }
 }
+
+#[test]
+fn obstacles_between_two_points() {
+    use nalgebra::{Point3, Vector3};
+    use opengrasp_core::model::Shape;
+    let (a, b) = (Point3::new(1.0, 2.0, 3.0), Point3::new(1.0, 2.0, 1.0));
+    let capsule = Shape::capsule_between(a, b, 0.1).unwrap();
+    assert_eq!(capsule.geometry, Geometry::Capsule { radius: 0.1, length: 2.0 });
+    // The local z axis runs from a to b; the ends map onto the points.
+    for (end, point) in [(1.0, b), (-1.0, a)] {
+        let p = capsule.origin * Point3::new(0.0, 0.0, end);
+        assert!((p - point).norm() < 1e-12, "{p} vs {point}");
+    }
+    let cylinder = Shape::cylinder_between(Point3::origin(), Point3::new(0.0, 3.0, 4.0), 0.05).unwrap();
+    assert_eq!(cylinder.geometry, Geometry::Cylinder { radius: 0.05, length: 5.0 });
+    assert!((cylinder.origin * Point3::new(0.0, 0.0, 2.5) - Point3::new(0.0, 3.0, 4.0)).norm() < 1e-12);
+    assert!(matches!(Shape::capsule_between(a, a, 0.1), Err(CoreError::InvalidGeometry { .. })));
+    assert!(matches!(Shape::capsule_between(a, b, 0.0), Err(CoreError::InvalidGeometry { .. })));
+    assert!(matches!(
+        Shape::capsule_between(a, Point3::new(f64::NAN, 0.0, 0.0), 0.1),
+        Err(CoreError::NonFinite { .. })
+    ));
+    // Full size in, half extents stored.
+    let cuboid = Shape::cuboid(nalgebra::Isometry3::identity(), Vector3::new(0.2, 0.4, 0.6)).unwrap();
+    assert_eq!(cuboid.geometry, Geometry::Box { half_extents: Vector3::new(0.1, 0.2, 0.3) });
+}
