@@ -27,6 +27,30 @@ pub enum CoreError {
         /// The path or URI that was looked up.
         path: PathBuf,
     },
+    /// A `package://NAME/...` URI names a package found nowhere on the search path.
+    #[error("package `{package}` of {uri} not found; searched: {}", display_paths(searched))]
+    PackageNotFound {
+        /// The package name.
+        package: String,
+        /// The whole URI.
+        uri: String,
+        /// Every directory that was looked at (registered packages, ancestors of the base
+        /// directory, search-path roots), in order.
+        searched: Vec<PathBuf>,
+    },
+    /// A document exceeds a resource limit (size, XML nesting depth, element count, group
+    /// nesting): hostile or broken input, rejected before it is parsed further.
+    #[error("{document} exceeds the {what} limit: {actual} > {limit}")]
+    LimitExceeded {
+        /// The kind of document (`urdf`, `srdf`, `collada`, `package.xml`).
+        document: &'static str,
+        /// The quantity limited (`size in bytes`, `nesting depth`, `element count`, ...).
+        what: &'static str,
+        /// The limit.
+        limit: usize,
+        /// The value found (at least; counting stops at the first excess).
+        actual: usize,
+    },
     /// A mesh file was found but could not be decoded.
     #[error("cannot read mesh {}: {reason}", path.display())]
     MeshFormat {
@@ -176,6 +200,13 @@ pub enum CoreError {
         #[source]
         source: std::io::Error,
     },
+}
+
+fn display_paths(paths: &[PathBuf]) -> String {
+    if paths.is_empty() {
+        return "nothing (no search path: set ROS_PACKAGE_PATH or add roots)".to_string();
+    }
+    paths.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")
 }
 
 /// Result alias for `opengrasp-core`.

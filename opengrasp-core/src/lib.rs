@@ -10,7 +10,9 @@
 //! a mesh plus mass and friction) with.
 //!
 //! All quantities are `f64` in SI units (metres, radians, newtons, seconds); poses are
-//! `nalgebra::Isometry3<f64>`.
+//! `nalgebra::Isometry3<f64>`. Boxes: [`model::Geometry::Box`] stores half extents; every
+//! constructor taking a box size ([`model::Geometry::cuboid`], [`model::Shape::cuboid`], URDF
+//! `<box size>`) takes the full size.
 
 #![forbid(unsafe_code)]
 

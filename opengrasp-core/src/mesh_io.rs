@@ -1,5 +1,6 @@
 //! Reading and writing triangle meshes: STL (binary and ASCII, via `stl_io`) and Wavefront OBJ
-//! (via `tobj`).
+//! (via `tobj`); reading COLLADA `.dae` (via openrr's `mesh-loader`), the usual ROS visual
+//! format.
 //!
 //! Readers return indexed [`TriangleMesh`]es: identical vertex positions are welded (STL has no
 //! index at all; OBJ files often split vertices by normal or texture coordinate), so closed
@@ -62,8 +63,9 @@ impl MeshFormat {
     }
 }
 
-/// Reads a mesh file's bytes, choosing the decoder from `path`'s extension (`.stl` or `.obj`,
-/// case-insensitive). `path` is only used to pick the format and to name the file in errors.
+/// Reads a mesh file's bytes, choosing the decoder from `path`'s extension (`.stl`, `.obj` or
+/// `.dae`, case-insensitive). `path` is only used to pick the format and to name the file in
+/// errors.
 ///
 /// # Errors
 /// [`CoreError::MeshFormat`] for an unsupported extension or undecodable bytes;
@@ -73,9 +75,10 @@ pub fn read_mesh(bytes: &[u8], path: impl AsRef<Path>) -> Result<TriangleMesh> {
     match MeshFormat::from_path(path) {
         Some(MeshFormat::Stl) => read_stl_at(bytes, path),
         Some(MeshFormat::Obj) => merge_objects(read_obj_objects_at(bytes, path)?),
+        None if is_collada(path) => read_collada_at(bytes, path),
         None => Err(CoreError::MeshFormat {
             path: path.to_path_buf(),
-            reason: "unsupported mesh format (expected .stl or .obj)".to_string(),
+            reason: "unsupported mesh format (expected .stl, .obj or .dae)".to_string(),
         }),
     }
 }
@@ -109,6 +112,66 @@ pub fn read_obj(bytes: &[u8]) -> Result<TriangleMesh> {
 /// object has a usable triangle.
 pub fn read_obj_objects(bytes: &[u8]) -> Result<Vec<(String, TriangleMesh)>> {
     read_obj_objects_at(bytes, Path::new("<obj bytes>"))
+}
+
+fn is_collada(path: &Path) -> bool {
+    path.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("dae"))
+}
+
+/// Reads a COLLADA (`.dae`) document as one mesh: every `<geometry>` of the document, each
+/// placed by the transforms of the `<node>` that instances it (`<matrix>`, `<translate>`,
+/// `<rotate>`, `<scale>`) and scaled by `<asset><unit meter>`, concatenated (welded by
+/// position within each geometry). `up_axis` is ignored, as ROS tools do; a geometry instanced
+/// by several nodes is placed once, by the last. Known limit of the reader (mesh-loader 0.1):
+/// with nested nodes, or a unit other than 1 together with node translations, transforms are
+/// composed in reverse order (parent before child, unit before translation), so such files
+/// load displaced; ROS exports (one level, metres) are unaffected. Lines, normals, texture coordinates and
+/// materials are ignored; zero-area faces are dropped.
+///
+/// The text is first checked against the default [`crate::urdf::XmlLimits`], so a deeply
+/// nested hostile file is rejected before the parser's recursion sees it. A parser panic on an
+/// inconsistent document (out-of-range accessor, unsupported reference) is caught and reported
+/// as an error.
+///
+/// # Errors
+/// [`CoreError::LimitExceeded`] for hostile input; [`CoreError::MeshFormat`] if the bytes are
+/// not COLLADA; [`CoreError::DegenerateMesh`] if no triangle with non-zero area remains.
+pub fn read_collada(bytes: &[u8]) -> Result<TriangleMesh> {
+    read_collada_at(bytes, Path::new("<collada bytes>"))
+}
+
+fn read_collada_at(bytes: &[u8], path: &Path) -> Result<TriangleMesh> {
+    let format_err = |reason: String| CoreError::MeshFormat { path: path.to_path_buf(), reason };
+    crate::urdf::check_xml(bytes, &crate::urdf::XmlLimits::default(), "collada", format_err)?;
+    // mesh-loader asserts on some inconsistent documents; a panic there must not take the
+    // caller down (bad input never panics out of this crate).
+    let scene = std::panic::catch_unwind(|| mesh_loader::collada::from_slice(bytes))
+        .map_err(|_| format_err("inconsistent COLLADA document (reader failed)".to_string()))?
+        .map_err(|e| format_err(e.to_string()))?;
+    let mut vertices = Vec::new();
+    let mut triangles = Vec::new();
+    for mesh in &scene.meshes {
+        let mut welder = Welder::default();
+        for face in &mesh.faces {
+            let mut t = [[0.0; 3]; 3];
+            for (k, &i) in face.iter().enumerate() {
+                let v = mesh
+                    .vertices
+                    .get(i as usize)
+                    .ok_or_else(|| format_err(format!("face index {i} out of range in geometry `{}`", mesh.name)))?;
+                t[k] = v.map(f64::from);
+            }
+            welder.triangle(t, path)?;
+        }
+        let offset =
+            u32::try_from(vertices.len()).map_err(|_| format_err("more than u32::MAX vertices".to_string()))?;
+        vertices.extend(welder.vertices);
+        triangles.extend(welder.triangles.into_iter().map(|t| t.map(|i| i + offset)));
+    }
+    if triangles.is_empty() {
+        return Err(CoreError::DegenerateMesh { reason: format!("{} has no triangles", path.display()) });
+    }
+    TriangleMesh::new_dropping_degenerate(vertices, triangles)
 }
 
 /// Encodes a mesh as binary STL (vertices rounded to `f32`, face normals from the geometry).

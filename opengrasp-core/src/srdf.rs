@@ -9,9 +9,22 @@
 //!
 //! Group members are resolved as MoveIt does: `<joint>` by name, `<link>` by its parent
 //! joint, `<chain base_link tip_link>` as the joints from base to tip, `<group>` as the joints
-//! of another group. Fixed and mimic joints are dropped (they are not degrees of freedom);
-//! a group left with no degree of freedom (e.g. an end-effector link group) is skipped and
-//! listed in [`SrdfReport::skipped_groups`]. Unknown names are errors.
+//! of another group. Fixed, mimic and `<passive_joint>` joints are dropped (they are not
+//! planned degrees of freedom); a `<joint>` naming the `<virtual_joint>` (a mobile base's
+//! planar or floating joint, which the model does not have) is dropped and noted in
+//! [`SrdfReport::ignored`]; a group left with no degree of freedom (e.g. an end-effector
+//! link group) is skipped and listed in [`SrdfReport::skipped_groups`]. Other unknown names
+//! are errors.
+//!
+//! Compatibility with what MoveIt's srdfdom accepts: `<virtual_joint>`, `<passive_joint>` and
+//! `<end_effector>` are read ([`Srdf::virtual_joints`], [`Srdf::passive_joints`],
+//! [`Srdf::end_effectors`]); elements srdfdom does not know (at the top level or inside a
+//! group, such as a `<passive_joint>` written inside a `<group>`) are ignored and listed in
+//! [`Srdf::ignored`].
+//!
+//! Hostile input: the text is checked against [`XmlLimits`] before parsing, and groups are
+//! resolved iteratively with memoisation through a name index, so subgroup chains of any
+//! length and groups that share subgroups take time linear in the document.
 //!
 //! ```
 //! use opengrasp_core::model::samples;
@@ -39,7 +52,15 @@ use quick_xml::events::{BytesStart, Event};
 use quick_xml::Reader;
 
 use crate::error::{CoreError, Result};
-use crate::model::{JointKind, LinkId, Robot};
+use crate::model::{LinkId, Robot};
+use crate::urdf::XmlLimits;
+
+mod resolve;
+
+/// Most groups [`Srdf::apply`] adds to a robot (real configurations have tens; adding a
+/// group to a [`Robot`] costs time proportional to its groups, so this bounds a hostile
+/// document's cost). [`Srdf::group_joints`] has no such limit.
+pub const MAX_GROUPS: usize = 10_000;
 
 /// A `<group>`: its members as written (resolved by [`Srdf::apply`]).
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -78,6 +99,32 @@ pub struct DisabledCollision {
     pub reason: String,
 }
 
+/// A `<virtual_joint>`: how the robot's root attaches to an external frame.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct VirtualJoint {
+    /// Joint name.
+    pub name: String,
+    /// `fixed`, `planar` or `floating`.
+    pub kind: String,
+    /// The external frame (`world`, `odom_combined`, ...).
+    pub parent_frame: String,
+    /// The robot link it moves.
+    pub child_link: String,
+}
+
+/// An `<end_effector>`.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct EndEffector {
+    /// End-effector name.
+    pub name: String,
+    /// The group of its links.
+    pub group: String,
+    /// The link it is attached to.
+    pub parent_link: String,
+    /// The group it is attached to, if given.
+    pub parent_group: Option<String>,
+}
+
 /// The contents of an SRDF document.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Srdf {
@@ -89,6 +136,16 @@ pub struct Srdf {
     pub group_states: Vec<GroupState>,
     /// Disabled collision pairs, in document order.
     pub disabled_collisions: Vec<DisabledCollision>,
+    /// Virtual joints, in document order.
+    pub virtual_joints: Vec<VirtualJoint>,
+    /// `<passive_joint name>` entries (joints not actuated, left out of groups' degrees of
+    /// freedom).
+    pub passive_joints: Vec<String>,
+    /// End effectors, in document order.
+    pub end_effectors: Vec<EndEffector>,
+    /// Elements not modelled and ignored, described (`<sphere> at top level`,
+    /// `<passive_joint> inside group `hand``), in document order.
+    pub ignored: Vec<String>,
 }
 
 /// What [`Srdf::apply`] did.
@@ -100,6 +157,8 @@ pub struct SrdfReport {
     pub skipped_groups: Vec<String>,
     /// `<disable_collisions>` pairs applied.
     pub allowed_pairs: usize,
+    /// Members accepted but not modelled, described (a group naming the virtual joint).
+    pub ignored: Vec<String>,
 }
 
 fn malformed(reason: impl Into<String>) -> CoreError {
@@ -128,13 +187,24 @@ fn escape(s: &str) -> String {
 }
 
 impl Srdf {
-    /// Parses SRDF text. Elements other than groups, group states and disabled collisions
-    /// (end effectors, virtual joints, passive joints, ...) are accepted and ignored.
+    /// Parses SRDF text with the default [`XmlLimits`]. Groups, group states, disabled
+    /// collisions, virtual joints, passive joints and end effectors are read; other elements
+    /// are ignored and listed in [`Srdf::ignored`].
     ///
     /// # Errors
+    /// [`CoreError::LimitExceeded`] for a document beyond the limits;
     /// [`CoreError::MalformedSrdf`] for XML errors, a root other than `<robot>`, missing
-    /// attributes, members outside a group, or a non-finite group-state value.
+    /// attributes or a non-finite group-state value.
     pub fn parse(text: &str) -> Result<Self> {
+        Self::parse_with_limits(text, &XmlLimits::default())
+    }
+
+    /// As [`Srdf::parse`], with explicit limits.
+    ///
+    /// # Errors
+    /// As [`Srdf::parse`].
+    pub fn parse_with_limits(text: &str, limits: &XmlLimits) -> Result<Self> {
+        crate::urdf::check_xml(text.as_bytes(), limits, "srdf", |reason| CoreError::MalformedSrdf { reason })?;
         let mut reader = Reader::from_str(text);
         let mut srdf = Srdf::default();
         let mut depth = 0usize;
@@ -184,7 +254,22 @@ impl Srdf {
                         link2: required(e, "link2")?,
                         reason: attribute(e, "reason")?.unwrap_or_default(),
                     }),
-                    _ => {}
+                    b"virtual_joint" => srdf.virtual_joints.push(VirtualJoint {
+                        name: required(e, "name")?,
+                        kind: required(e, "type")?,
+                        parent_frame: required(e, "parent_frame")?,
+                        child_link: required(e, "child_link")?,
+                    }),
+                    b"passive_joint" => srdf.passive_joints.push(required(e, "name")?),
+                    b"end_effector" => srdf.end_effectors.push(EndEffector {
+                        name: required(e, "name")?,
+                        group: required(e, "group")?,
+                        parent_link: required(e, "parent_link")?,
+                        parent_group: attribute(e, "parent_group")?,
+                    }),
+                    // Known to srdfdom but not modelled here: no note.
+                    b"disable_default_collisions" | b"enable_collisions" | b"link_sphere_approximation" => {}
+                    other => srdf.ignored.push(format!("<{}> at top level", String::from_utf8_lossy(other))),
                 },
                 2 => {
                     if let Some(g) = group {
@@ -194,13 +279,11 @@ impl Srdf {
                             b"link" => g.links.push(required(e, "name")?),
                             b"group" => g.subgroups.push(required(e, "name")?),
                             b"chain" => g.chains.push((required(e, "base_link")?, required(e, "tip_link")?)),
-                            other => {
-                                return Err(malformed(format!(
-                                    "<{}> inside group `{}`",
-                                    String::from_utf8_lossy(other),
-                                    g.name
-                                )))
-                            }
+                            other => srdf.ignored.push(format!(
+                                "<{}> inside group `{}`",
+                                String::from_utf8_lossy(other),
+                                g.name
+                            )),
                         }
                     } else if let Some(s) = state {
                         if tag == b"joint" {
@@ -267,7 +350,7 @@ impl Srdf {
                 reason: if adjacent(a, b) { "Adjacent" } else { "User" }.to_string(),
             })
             .collect();
-        Self { robot: robot.name().to_string(), groups, group_states: Vec::new(), disabled_collisions }
+        Self { robot: robot.name().to_string(), groups, disabled_collisions, ..Self::default() }
     }
 
     /// The document as SRDF text.
@@ -318,65 +401,34 @@ impl Srdf {
     /// does not descend from its base; [`CoreError::UnknownJoint`] / [`CoreError::UnknownLink`]
     /// for names the robot does not have.
     pub fn group_joints(&self, robot: &Robot, name: &str) -> Result<Vec<String>> {
-        let mut out = Vec::new();
-        self.collect_group(robot, name, &mut Vec::new(), &mut out)?;
-        Ok(out)
-    }
-
-    fn collect_group(&self, robot: &Robot, name: &str, stack: &mut Vec<String>, out: &mut Vec<String>) -> Result<()> {
-        if stack.iter().any(|s| s == name) {
-            return Err(malformed(format!("group `{name}` contains itself (via {})", stack.join(" -> "))));
-        }
-        let group =
-            self.groups.iter().find(|g| g.name == name).ok_or_else(|| malformed(format!("unknown group `{name}`")))?;
-        stack.push(name.to_string());
-        let mut push = |joint: usize| {
-            let j = &robot.joints()[joint];
-            let moves = !matches!(j.kind, JointKind::Fixed) && j.mimic.is_none();
-            if moves && !out.contains(&j.name) {
-                out.push(j.name.clone());
-            }
-        };
-        for j in &group.joints {
-            push(robot.joint_id(j)?.0);
-        }
-        for l in &group.links {
-            if let Some(j) = robot.parent_joint(robot.link_id(l)?) {
-                push(j.0);
-            }
-        }
-        for (base, tip) in &group.chains {
-            let (base_id, tip_id) = (robot.link_id(base)?, robot.link_id(tip)?);
-            let mut chain = Vec::new();
-            let mut link = tip_id;
-            while link != base_id {
-                let j = robot.parent_joint(link).ok_or_else(|| {
-                    malformed(format!("group `{name}`: chain tip `{tip}` does not descend from base `{base}`"))
-                })?;
-                chain.push(j.0);
-                link = robot.joints()[j.0].parent;
-            }
-            for j in chain.into_iter().rev() {
-                push(j);
-            }
-        }
-        for s in &group.subgroups {
-            self.collect_group(robot, s, stack, out)?;
-        }
-        stack.pop();
-        Ok(())
+        let resolved = resolve::Resolver::new(self, robot).resolve(name)?;
+        Ok(resolved.joints.iter().map(|&j| robot.joints()[j].name.clone()).collect())
     }
 
     /// Adds the groups to `robot` (replacing groups of the same name) and allows the
     /// disabled collision pairs. Nothing is changed if any group or pair is invalid.
     ///
     /// # Errors
-    /// As [`Srdf::group_joints`]; [`CoreError::UnknownLink`] for a pair naming an unknown link.
+    /// As [`Srdf::group_joints`]; [`CoreError::UnknownLink`] for a pair naming an unknown link;
+    /// [`CoreError::LimitExceeded`] for more than [`MAX_GROUPS`] groups.
     pub fn apply(&self, robot: &mut Robot) -> Result<SrdfReport> {
+        if self.groups.len() > MAX_GROUPS {
+            return Err(CoreError::LimitExceeded {
+                document: "srdf",
+                what: "group count",
+                limit: MAX_GROUPS,
+                actual: self.groups.len(),
+            });
+        }
         let mut report = SrdfReport::default();
         let mut resolved = Vec::new();
+        let mut resolver = resolve::Resolver::new(self, robot);
         for g in &self.groups {
-            let joints = self.group_joints(robot, &g.name)?;
+            let r = resolver.resolve(&g.name)?;
+            report.ignored.extend(
+                r.virtual_joints.iter().map(|j| format!("virtual joint `{j}` in group `{}` (not modelled)", g.name)),
+            );
+            let joints: Vec<String> = r.joints.iter().map(|&j| robot.joints()[j].name.clone()).collect();
             if joints.is_empty() {
                 report.skipped_groups.push(g.name.clone());
             } else {

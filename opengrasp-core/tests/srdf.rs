@@ -93,7 +93,9 @@ fn bad_documents_are_typed_errors_and_change_nothing() {
     assert!(malformed("<robot><group><joint name=\"joint1\"/></group></robot>"));
     assert!(malformed("<robot><disable_collisions link1=\"a\"/></robot>"));
     assert!(malformed("<robot><group name=\"g\"><chain base_link=\"base\"/></group></robot>"));
-    assert!(malformed("<robot><group name=\"g\"><box/></group></robot>"));
+    assert!(
+        Srdf::parse("<robot><group name=\"g\"><box/></group></robot>").unwrap().ignored == ["<box> inside group `g`"]
+    );
     assert!(malformed(
         "<robot><group_state name=\"s\" group=\"g\"><joint name=\"joint1\" value=\"NaN\"/></group_state></robot>"
     ));

@@ -481,9 +481,13 @@ fn malformed_xml_is_a_typed_error() {
     // Structural problems found by the builder are reported as malformed URDF too.
     let two_roots = r#"<robot name="r"><link name="a"/><link name="b"/></robot>"#;
     assert!(matches!(urdf::from_str(two_roots, &InMemoryResolver::new()), Err(CoreError::MalformedUrdf { .. })));
-    let bad_radius =
-        r#"<robot name="r"><link name="a"><visual><geometry><sphere radius="-1"/></geometry></visual></link></robot>"#;
+    let bad_radius = r#"<robot name="r"><link name="a"><collision><geometry><sphere radius="-1"/></geometry></collision></link></robot>"#;
     assert!(matches!(urdf::from_str(bad_radius, &InMemoryResolver::new()), Err(CoreError::MalformedUrdf { .. })));
+    // The same in a visual leaves the visual out, with a warning.
+    let visual = bad_radius.replace("collision>", "visual>");
+    let loaded = urdf::from_str_with(&visual, &InMemoryResolver::new(), &urdf::LoadOptions::default()).unwrap();
+    assert!(loaded.robot.links()[0].visuals.is_empty());
+    assert!(matches!(&loaded.warnings[..], [urdf::LoadWarning::VisualNotLoaded { index: 0, .. }]));
 }
 
 #[test]
@@ -586,8 +590,8 @@ fn try_from_parsed_urdf_rs_robot() {
     let text = std::fs::read_to_string(arm_urdf_path()).unwrap();
     let parsed = urdf::urdf_rs::read_from_string(&text).unwrap();
     // Mesh paths resolve against the working directory (the package root under cargo test),
-    // where `../meshes/tool.obj` does not exist.
-    assert!(matches!(Robot::try_from(&parsed), Err(CoreError::MeshNotFound { .. })));
+    // where package `test_arm` is not found.
+    assert!(matches!(Robot::try_from(&parsed), Err(CoreError::PackageNotFound { .. })));
     let resolver = FileResolver::new(data_dir().join("urdf"));
     let robot = urdf::from_urdf_rs(&parsed, &resolver).unwrap();
     assert_same_robot(&robot, &load_arm(), 0.0);

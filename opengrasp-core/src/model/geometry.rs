@@ -11,6 +11,11 @@ use crate::error::{CoreError, Result};
 ///
 /// Conventions follow URDF: cylinders and capsules are aligned with the local z axis and centred
 /// at the origin; boxes are centred at the origin.
+///
+/// **Box size convention:** [`Geometry::Box`] stores *half* extents (as parry does); every
+/// constructor that takes a box size — [`Geometry::cuboid`], [`Shape::cuboid`], URDF's
+/// `<box size>` — takes the *full* size (edge lengths). Obstacles between two points:
+/// [`Shape::capsule_between`] and [`Shape::cylinder_between`].
 #[derive(Clone, Debug, PartialEq)]
 pub enum Geometry {
     /// Axis-aligned box given by its half extents (m).
@@ -137,6 +142,59 @@ impl Shape {
     pub fn at_origin(geometry: Geometry) -> Self {
         Self { origin: Isometry3::identity(), geometry }
     }
+
+    /// A box of full size `size` (edge lengths along x, y, z, m) at `origin`.
+    ///
+    /// # Errors
+    /// [`CoreError::InvalidGeometry`] for a non-positive or non-finite size;
+    /// [`CoreError::NonFinite`] for a non-finite pose.
+    pub fn cuboid(origin: Isometry3<f64>, size: Vector3<f64>) -> Result<Self> {
+        crate::error::ensure_finite(
+            "box pose",
+            origin.translation.vector.iter().chain(origin.rotation.coords.iter()).copied(),
+        )?;
+        let geometry = Geometry::cuboid(size.x, size.y, size.z);
+        geometry.validate()?;
+        Ok(Self { origin, geometry })
+    }
+
+    /// A capsule whose hemisphere centres are `a` and `b` (m), of radius `radius`: the swept
+    /// sphere along the segment, e.g. a pole or a bar as an obstacle.
+    ///
+    /// # Errors
+    /// [`CoreError::NonFinite`] for non-finite points; [`CoreError::InvalidGeometry`] if the
+    /// points coincide or the radius is not positive and finite.
+    pub fn capsule_between(a: Point3<f64>, b: Point3<f64>, radius: f64) -> Result<Self> {
+        let (origin, length) = segment_frame(a, b)?;
+        let geometry = Geometry::Capsule { radius, length };
+        geometry.validate()?;
+        Ok(Self { origin, geometry })
+    }
+
+    /// A cylinder whose end-face centres are `a` and `b` (m), of radius `radius`.
+    ///
+    /// # Errors
+    /// As [`Shape::capsule_between`].
+    pub fn cylinder_between(a: Point3<f64>, b: Point3<f64>, radius: f64) -> Result<Self> {
+        let (origin, length) = segment_frame(a, b)?;
+        let geometry = Geometry::Cylinder { radius, length };
+        geometry.validate()?;
+        Ok(Self { origin, geometry })
+    }
+}
+
+/// The frame centred between `a` and `b` with its z axis along `b - a`, and the distance.
+fn segment_frame(a: Point3<f64>, b: Point3<f64>) -> Result<(Isometry3<f64>, f64)> {
+    crate::error::ensure_finite("segment end points", a.coords.iter().chain(b.coords.iter()).copied())?;
+    let d = b - a;
+    let length = d.norm();
+    if length == 0.0 {
+        return Err(CoreError::InvalidGeometry { reason: "segment end points coincide".to_string() });
+    }
+    let rotation = nalgebra::UnitQuaternion::rotation_between(&Vector3::z(), &d)
+        // Anti-parallel to z: half a turn about x.
+        .unwrap_or_else(|| nalgebra::UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI));
+    Ok((Isometry3::from_parts(nalgebra::center(&a, &b).coords.into(), rotation), length))
 }
 
 /// An indexed triangle mesh in metres, validated on construction.

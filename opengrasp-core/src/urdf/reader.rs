@@ -1,11 +1,13 @@
 //! URDF → [`Robot`].
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 use std::path::Path;
 use std::sync::Arc;
 
-use nalgebra::{Isometry3, Matrix3, Translation3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Matrix3, Point3, Translation3, UnitQuaternion, Vector3};
 
+use super::limits::check_xml;
+use super::options::{LoadOptions, LoadWarning, LoadedRobot, Visuals};
 use super::resolver::{FileResolver, MeshResolver};
 use crate::error::{CoreError, Result};
 use crate::model::{Geometry, Inertial, JointKind, JointSpec, Link, Robot, RobotBuilder, Shape, TriangleMesh};
@@ -60,13 +62,29 @@ fn geometry(
             let bytes = resolver.resolve(filename)?;
             let mut mesh = crate::mesh_io::read_mesh(&bytes, filename)?;
             if scale != [1.0; 3] {
-                mesh = mesh.scaled(&Vector3::from(scale))?;
+                mesh = scaled(&mesh, &Vector3::from(scale))?;
             }
             let mesh = Arc::new(mesh);
             cache.insert(key, mesh.clone());
             Geometry::Mesh(mesh)
         }
     })
+}
+
+/// `mesh` scaled per axis, dropping faces the scale makes degenerate (an mm → m scale of
+/// `0.001` shrinks areas a million times, so sliver faces fall below the area threshold that
+/// reading would have dropped them at).
+fn scaled(mesh: &TriangleMesh, scale: &Vector3<f64>) -> Result<TriangleMesh> {
+    if scale.iter().any(|&f| f == 0.0) {
+        return Err(CoreError::DegenerateMesh { reason: format!("zero mesh scale factor in {scale:?}") });
+    }
+    let vertices = mesh.vertices().iter().map(|v| Point3::from(v.coords.component_mul(scale))).collect();
+    let mut triangles = mesh.triangles().to_vec();
+    if scale.x * scale.y * scale.z < 0.0 {
+        // A mirroring scale flips orientation; swap two indices to keep faces outward.
+        triangles.iter_mut().for_each(|t| t.swap(1, 2));
+    }
+    TriangleMesh::new_dropping_degenerate(vertices, triangles)
 }
 
 fn inertial(link: &urdf_rs::Link) -> Result<Option<Inertial>> {
@@ -85,7 +103,7 @@ fn inertial(link: &urdf_rs::Link) -> Result<Option<Inertial>> {
     Ok(Some(Inertial { origin, mass: i.mass.value, inertia }))
 }
 
-fn joint_spec(j: &urdf_rs::Joint, joint_names: &HashSet<&str>) -> Result<JointSpec> {
+fn joint_spec(j: &urdf_rs::Joint, fixed: &HashMap<&str, bool>, warnings: &mut Vec<LoadWarning>) -> Result<JointSpec> {
     let l = &j.limit;
     let kind = match j.joint_type {
         urdf_rs::JointType::Fixed => JointKind::Fixed,
@@ -120,42 +138,77 @@ fn joint_spec(j: &urdf_rs::Joint, joint_names: &HashSet<&str>) -> Result<JointSp
         spec = spec.limits(l.lower, l.upper, l.velocity, l.effort);
     }
     if let Some(m) = &j.mimic {
-        if !joint_names.contains(m.joint.as_str()) {
+        let Some(&leader_fixed) = fixed.get(m.joint.as_str()) else {
             return Err(CoreError::UnknownJoint { name: m.joint.clone() });
+        };
+        if kind == JointKind::Fixed || leader_fixed {
+            warnings.push(LoadWarning::MimicIgnored { joint: j.name.clone(), leader: m.joint.clone() });
+        } else {
+            spec = spec.mimic(m.joint.clone(), m.multiplier.unwrap_or(1.0), m.offset.unwrap_or(0.0));
         }
-        spec = spec.mimic(m.joint.clone(), m.multiplier.unwrap_or(1.0), m.offset.unwrap_or(0.0));
     }
     Ok(spec)
 }
 
-/// Builds a [`Robot`] from a parsed `urdf_rs::Robot`, loading meshes through `resolver`.
+/// Builds a [`Robot`] from a parsed `urdf_rs::Robot`, loading meshes through `resolver`,
+/// with the default [`LoadOptions`] (visuals loaded; use [`from_urdf_rs_with`] to see the
+/// warnings).
 ///
 /// Mapping: `revolute`, `continuous`, `prismatic` and `fixed` joints map to [`JointKind`]
 /// (a URDF 1.2 revolute joint with both limits omitted becomes continuous); `floating`,
 /// `planar` and `spherical` joints are rejected. Mimic joints keep multiplier (default 1) and
-/// offset (default 0). Limits keep lower/upper/velocity/effort for revolute and prismatic
-/// joints; continuous joints carry no limits. Box, sphere, cylinder, capsule and mesh
-/// (`.stl`/`.obj`, with `scale` applied) geometry is supported; materials are ignored. An
-/// all-zero `<inertial>` (which is what urdf-rs reports when the element is absent) becomes
-/// `None`.
+/// offset (default 0); a `<mimic>` on a fixed joint, or naming a fixed joint, is ignored with
+/// [`LoadWarning::MimicIgnored`]. Limits keep lower/upper/velocity/effort for revolute and
+/// prismatic joints; continuous joints carry no limits. Box, sphere, cylinder, capsule and mesh
+/// (`.stl`, `.obj`, `.dae`, with `scale` applied, faces the scale makes degenerate dropped)
+/// geometry is supported; materials are ignored. An all-zero `<inertial>` (which is what
+/// urdf-rs reports when the element is absent) becomes `None`.
 ///
 /// # Errors
 /// [`CoreError::MalformedUrdf`] for unsupported joint types, missing or non-finite limits
 /// (a revolute or prismatic joint whose `<limit>` is absent or all zero counts as missing),
 /// non-finite numbers and anything [`RobotBuilder::build`] rejects (bad tree, bad geometry);
 /// [`CoreError::UnknownJoint`] if a mimic joint follows a joint that does not exist;
-/// [`CoreError::MeshNotFound`], [`CoreError::MeshFormat`], [`CoreError::DegenerateMesh`] or
-/// [`CoreError::Io`] from mesh loading.
+/// [`CoreError::MeshNotFound`], [`CoreError::PackageNotFound`], [`CoreError::MeshFormat`],
+/// [`CoreError::DegenerateMesh`] or [`CoreError::Io`] from loading collision meshes (visual
+/// meshes that fail are left out with a warning).
 pub fn from_urdf_rs(urdf: &urdf_rs::Robot, resolver: &dyn MeshResolver) -> Result<Robot> {
+    from_urdf_rs_with(urdf, resolver, &LoadOptions::default()).map(|l| l.robot)
+}
+
+/// As [`from_urdf_rs`], with options, returning the load's warnings. Of `options`, only
+/// [`LoadOptions::visuals`] applies here (the resolver is given).
+///
+/// # Errors
+/// As [`from_urdf_rs`].
+pub fn from_urdf_rs_with(
+    urdf: &urdf_rs::Robot,
+    resolver: &dyn MeshResolver,
+    options: &LoadOptions,
+) -> Result<LoadedRobot> {
     let mut cache = MeshCache::new();
+    let mut warnings = Vec::new();
     let mut builder = RobotBuilder::new(urdf.name.clone());
     for l in &urdf.links {
         let mut link = Link::new(l.name.clone());
         link.inertial = inertial(l)?;
-        for (i, v) in l.visual.iter().enumerate() {
-            let what = || format!("visual {i} of link `{}`", l.name);
-            let origin = pose(&v.origin, what)?;
-            link.visuals.push(Shape::new(origin, geometry(&v.geometry, resolver, &mut cache, &what)?));
+        if options.visuals == Visuals::Load {
+            for (i, v) in l.visual.iter().enumerate() {
+                let what = || format!("visual {i} of link `{}`", l.name);
+                let shape = pose(&v.origin, what).and_then(|origin| {
+                    let g = geometry(&v.geometry, resolver, &mut cache, &what)?;
+                    g.validate()?;
+                    Ok(Shape::new(origin, g))
+                });
+                match shape {
+                    Ok(shape) => link.visuals.push(shape),
+                    Err(e) => warnings.push(LoadWarning::VisualNotLoaded {
+                        link: l.name.clone(),
+                        index: i,
+                        reason: e.to_string(),
+                    }),
+                }
+            }
         }
         for (i, c) in l.collision.iter().enumerate() {
             let what = || format!("collision {i} of link `{}`", l.name);
@@ -164,40 +217,87 @@ pub fn from_urdf_rs(urdf: &urdf_rs::Robot, resolver: &dyn MeshResolver) -> Resul
         }
         builder = builder.link(link);
     }
-    let joint_names: HashSet<&str> = urdf.joints.iter().map(|j| j.name.as_str()).collect();
+    let fixed: HashMap<&str, bool> =
+        urdf.joints.iter().map(|j| (j.name.as_str(), matches!(j.joint_type, urdf_rs::JointType::Fixed))).collect();
     for j in &urdf.joints {
-        builder = builder.joint(joint_spec(j, &joint_names)?);
+        builder = builder.joint(joint_spec(j, &fixed, &mut warnings)?);
     }
-    builder.build().map_err(|e| match e {
+    let robot = builder.build().map_err(|e| match e {
         CoreError::InvalidModel { .. }
         | CoreError::InvalidGeometry { .. }
         | CoreError::NonFinite { .. }
         | CoreError::UnknownLink { .. } => malformed(e.to_string()),
         other => other,
-    })
+    })?;
+    Ok(LoadedRobot { robot, warnings })
 }
 
 /// Parses URDF text and builds the robot, loading meshes through `resolver`
-/// (a [`FileResolver`], an [`super::InMemoryResolver`] or your own).
+/// (a [`FileResolver`], an [`super::InMemoryResolver`] or your own), with the default
+/// [`LoadOptions`].
 ///
 /// # Errors
-/// [`CoreError::MalformedUrdf`] if the text is not well-formed URDF; otherwise as
-/// [`from_urdf_rs`].
+/// [`CoreError::LimitExceeded`] if the text exceeds the default [`super::XmlLimits`];
+/// [`CoreError::MalformedUrdf`] if it is not well-formed URDF; otherwise as [`from_urdf_rs`].
 pub fn from_str(text: &str, resolver: &dyn MeshResolver) -> Result<Robot> {
-    let urdf = urdf_rs::read_from_string(text).map_err(|e| malformed(e.to_string()))?;
-    from_urdf_rs(&urdf, resolver)
+    from_str_with(text, resolver, &LoadOptions::default()).map(|l| l.robot)
 }
 
-/// Loads a URDF file, resolving mesh paths relative to the file's directory and
-/// `package://` URIs by the ROS layout (see [`FileResolver`]).
+/// As [`from_str`], with options, returning the load's warnings. The text is checked against
+/// [`LoadOptions::limits`] before urdf-rs parses it; the package options do not apply (the
+/// resolver is given).
+///
+/// # Errors
+/// As [`from_str`].
+pub fn from_str_with(text: &str, resolver: &dyn MeshResolver, options: &LoadOptions) -> Result<LoadedRobot> {
+    check_xml(text.as_bytes(), &options.limits, "urdf", |reason| CoreError::MalformedUrdf { reason })?;
+    let urdf = urdf_rs::read_from_string(text).map_err(|e| malformed(e.to_string()))?;
+    from_urdf_rs_with(&urdf, resolver, options)
+}
+
+/// Loads a URDF file with the default [`LoadOptions`]: mesh paths are resolved relative to the
+/// file's directory and `package://` URIs as ROS does (the file's own package and its
+/// siblings, then `ROS_PACKAGE_PATH` / `AMENT_PREFIX_PATH`; see [`FileResolver`]). Visuals
+/// that fail to load are left out (see [`load_file_with`] for the warnings).
 ///
 /// # Errors
 /// [`CoreError::Io`] if the file cannot be read; otherwise as [`from_str`].
 pub fn load_file(path: impl AsRef<Path>) -> Result<Robot> {
-    let path = path.as_ref();
-    let text = std::fs::read_to_string(path).map_err(|source| CoreError::Io { path: path.to_path_buf(), source })?;
+    load_file_with(path, &LoadOptions::default()).map(|l| l.robot)
+}
+
+/// The [`FileResolver`] [`load_file_with`] uses for a URDF file at `path`.
+pub fn file_resolver(path: &Path, options: &LoadOptions) -> FileResolver {
     let base = path.parent().map_or_else(|| Path::new(".").to_path_buf(), Path::to_path_buf);
-    from_str(&text, &FileResolver::new(base))
+    let mut resolver = FileResolver::new(base);
+    for (name, dir) in &options.packages {
+        resolver = resolver.with_package(name.clone(), dir.clone());
+    }
+    for root in &options.search_roots {
+        resolver = resolver.with_search_root(root.clone());
+    }
+    if options.ros_package_path {
+        resolver = resolver.with_ros_package_path();
+    }
+    resolver
+}
+
+/// Loads a URDF file with options, returning the load's warnings.
+///
+/// # Errors
+/// [`CoreError::Io`] if the file cannot be read; [`CoreError::LimitExceeded`] if it is larger
+/// than [`super::XmlLimits::max_bytes`]; otherwise as [`from_str`].
+pub fn load_file_with(path: impl AsRef<Path>, options: &LoadOptions) -> Result<LoadedRobot> {
+    let path = path.as_ref();
+    let io = |source| CoreError::Io { path: path.to_path_buf(), source };
+    let size = std::fs::metadata(path).map_err(io)?.len();
+    let max = options.limits.max_bytes;
+    if size > max as u64 {
+        let actual = usize::try_from(size).unwrap_or(usize::MAX);
+        return Err(CoreError::LimitExceeded { document: "urdf", what: "size in bytes", limit: max, actual });
+    }
+    let text = std::fs::read_to_string(path).map_err(io)?;
+    from_str_with(&text, &file_resolver(path, options), options)
 }
 
 /// Converts a parsed URDF, resolving mesh file names relative to the current working
