@@ -82,12 +82,12 @@ fn main() -> Result<()> {
                 "  {} seed {seed}: {}/4 objects cleaned, all paths valid: {}, planning {:.1} ms, \
                  post-processing {:.0} ms, C-space length {:.2}, palm path {:.2} m",
                 episode.planner,
-                episode.cleaned,
-                episode.all_valid,
-                episode.total_planning_time * 1e3,
-                episode.total_postprocessing_time * 1e3,
-                episode.total_length,
-                episode.total_ee_length
+                episode.totals.cleaned,
+                episode.totals.all_valid,
+                episode.totals.planning_time * 1e3,
+                episode.totals.postprocessing_time * 1e3,
+                episode.totals.length,
+                episode.totals.ee_length
             ));
             for object in episode.objects {
                 records.push(object.grasp);

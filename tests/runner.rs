@@ -677,17 +677,17 @@ fn clean_the_table_episodes_in_the_suite() {
     assert_eq!((e.planner.as_str(), e.index, e.seed, e.error.as_deref()), ("RRT-Connect", 0, 3, None));
     assert_eq!(e.objects, ["white_cup", "green_cup", "salt_can", "measuring_cup"]);
     // Grasp and place query per cleaned object, numbered in order, all under one scene.
-    assert_eq!(e.cleaned, 4, "{e:?}");
+    assert_eq!(e.totals.cleaned, 4, "{e:?}");
     assert_eq!(m.runs.len(), 8);
     assert!(m.runs.iter().all(|r| r.scene == CLEAN_THE_TABLE_SCENE && r.planner == "RRT-Connect"));
     assert_eq!(m.runs.iter().map(|r| r.run).collect::<Vec<_>>(), (0..8).collect::<Vec<_>>());
     assert!(m.runs.iter().all(|r| r.status == RunStatus::Solved));
     // The episode's sums are the sums of its queries.
     let planning: f64 = m.runs.iter().map(|r| r.planning_time).sum();
-    assert!((e.planning_time - planning).abs() < 1e-9, "{} vs {planning}", e.planning_time);
+    assert!((e.totals.planning_time - planning).abs() < 1e-9, "{} vs {planning}", e.totals.planning_time);
     let length: f64 = m.runs.iter().filter_map(|r| r.processed.as_ref()).map(|p| p.metrics.length).sum();
-    assert!((e.length - length).abs() < 1e-9);
-    assert_eq!(e.all_valid, m.runs.iter().all(|r| r.processed.as_ref().is_some_and(|p| p.validity.strict)));
+    assert!((e.totals.length - length).abs() < 1e-9);
+    assert_eq!(e.totals.all_valid, m.runs.iter().all(|r| r.processed.as_ref().is_some_and(|p| p.validity.strict)));
     assert_eq!(m.summaries.len(), 1);
     assert_eq!((m.summaries[0].runs, m.summaries[0].solved), (8, 8));
     // The file validates, round-trips and reports the episode.

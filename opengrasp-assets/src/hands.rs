@@ -50,16 +50,35 @@ fn phalanx(name: &str, len: f64, width: f64, thick: f64, mass: f64, gap: f64) ->
         .with_inertial(Inertial::solid_box(mass, size, origin))
 }
 
-fn revolute(
-    name: &str,
-    parent: &str,
-    child: &str,
-    origin: Isometry3<f64>,
-    axis: Vector3<f64>,
-    lo: f64,
-    hi: f64,
-) -> JointSpec {
-    JointSpec::new(name, JointKind::Revolute, parent, child).origin(origin).axis(axis).limits(lo, hi, 2.0, 5.0)
+/// Velocity (rad/s) and effort (N·m) limits shared by a group of revolute joints.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Drive {
+    pub velocity: f64,
+    pub effort: f64,
+}
+
+/// The finger drives of the stock hands.
+const FINGER: Drive = Drive { velocity: 2.0, effort: 5.0 };
+
+impl Drive {
+    /// A revolute joint between `parent` and `child` with limits `(lower, upper)` (rad) and
+    /// this drive.
+    pub(crate) fn revolute(
+        self,
+        name: &str,
+        parent: &str,
+        child: &str,
+        origin: Isometry3<f64>,
+        axis: Vector3<f64>,
+        (lo, hi): (f64, f64),
+    ) -> JointSpec {
+        JointSpec::new(name, JointKind::Revolute, parent, child).origin(origin).axis(axis).limits(
+            lo,
+            hi,
+            self.velocity,
+            self.effort,
+        )
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -123,7 +142,7 @@ fn barrett_parts(p: &str) -> Parts {
         match spread {
             Some(sign) => {
                 let axis = Vector3::z() * sign;
-                let mut j = revolute(&spread_joint, &palm, &knuckle, kn_origin, axis, 0.0, PI);
+                let mut j = FINGER.revolute(&spread_joint, &palm, &knuckle, kn_origin, axis, (0.0, PI));
                 j = j.limits(0.0, PI, 2.0, SPREAD_EFFORT);
                 if sign < 0.0 {
                     j = j.mimic(format!("{p}f1_spread"), 1.0, 0.0);
@@ -136,26 +155,25 @@ fn barrett_parts(p: &str) -> Parts {
         }
         parts.links.push(phalanx(&prox, PROXIMAL, FINGER_WIDTH, FINGER_THICK, m_link, 0.016));
         parts.links.push(phalanx(&dist, DISTAL, FINGER_WIDTH * 0.9, FINGER_THICK * 0.9, m_link, 0.01));
-        parts.joints.push(revolute(
+        parts.joints.push(FINGER.revolute(
             &format!("{p}{f}_j2"),
             &knuckle,
             &prox,
             Isometry3::translation(-KNUCKLE_OFFSET, 0.0, 0.016),
             Vector3::y(),
-            0.0,
-            PROXIMAL_MAX,
+            (0.0, PROXIMAL_MAX),
         ));
         parts.joints.push(
-            revolute(
-                &format!("{p}{f}_j3"),
-                &prox,
-                &dist,
-                Isometry3::translation(0.0, 0.0, PROXIMAL),
-                Vector3::y(),
-                0.0,
-                PROXIMAL_MAX * DISTAL_RATIO,
-            )
-            .mimic(format!("{p}{f}_j2"), DISTAL_RATIO, 0.0),
+            FINGER
+                .revolute(
+                    &format!("{p}{f}_j3"),
+                    &prox,
+                    &dist,
+                    Isometry3::translation(0.0, 0.0, PROXIMAL),
+                    Vector3::y(),
+                    (0.0, PROXIMAL_MAX * DISTAL_RATIO),
+                )
+                .mimic(format!("{p}{f}_j2"), DISTAL_RATIO, 0.0),
         );
         parts.allowed.push((palm.clone(), prox.clone()));
         parts.allowed.push((knuckle.clone(), dist.clone()));
@@ -253,7 +271,7 @@ pub(crate) fn armar3_hand_parts(p: &str, side: f64) -> Parts {
         for k in 0..3 {
             parts.links.push(phalanx(&names[k], lens[k], FINGER_WIDTH, FINGER_WIDTH, m, 0.004));
             let jn = format!("{p}{f}_j{}", k + 1);
-            let mut j = revolute(&jn, &parent, &names[k], origin, Vector3::y(), 0.0, FRAC_PI_2);
+            let mut j = FINGER.revolute(&jn, &parent, &names[k], origin, Vector3::y(), (0.0, FRAC_PI_2));
             // Coupling as in the fluidic hand: index and middle have separate proximal and
             // (coupled middle+distal) actuators; ring and pinky share one actuator for all joints.
             j = match (f, k) {
@@ -290,14 +308,13 @@ pub(crate) fn armar3_hand_parts(p: &str, side: f64) -> Parts {
             .with_shape(Shape::new(Isometry3::translation(0.0, 0.0, 0.0), Geometry::Sphere { radius: 0.011 }))
             .with_inertial(Inertial::solid_sphere(m, 0.011, Isometry3::identity())),
     );
-    parts.joints.push(revolute(
+    parts.joints.push(FINGER.revolute(
         &format!("{p}thumb_opposition"),
         &palm,
         &base,
         Isometry3::translation(0.0, side * THUMB_BASE_Y, THUMB_BASE_Z),
         -Vector3::z() * side,
-        0.0,
-        FRAC_PI_2,
+        (0.0, FRAC_PI_2),
     ));
     parts.links.push(phalanx(&tn[0], THUMB[0], FINGER_WIDTH * 1.1, FINGER_WIDTH * 1.1, m, 0.012));
     parts.links.push(phalanx(&tn[1], THUMB[1], FINGER_WIDTH * 1.1, FINGER_WIDTH * 1.1, m, 0.004));
@@ -305,23 +322,21 @@ pub(crate) fn armar3_hand_parts(p: &str, side: f64) -> Parts {
     // +z); the opposition turns it with the thumb, so when the thumb stands out of the palm the
     // tip still moves towards the fingers.
     let flex_axis = rot.inverse() * (Vector3::x() * side);
-    parts.joints.push(revolute(
+    parts.joints.push(FINGER.revolute(
         &format!("{p}thumb_j1"),
         &base,
         &tn[0],
         Isometry3::from_parts(Translation3::identity(), rot),
         flex_axis,
-        0.0,
-        FRAC_PI_2,
+        (0.0, FRAC_PI_2),
     ));
-    parts.joints.push(revolute(
+    parts.joints.push(FINGER.revolute(
         &format!("{p}thumb_j2"),
         &tn[0],
         &tn[1],
         Isometry3::translation(0.0, 0.0, THUMB[0]),
         flex_axis,
-        0.0,
-        FRAC_PI_2,
+        (0.0, FRAC_PI_2),
     ));
     parts.allowed.push((palm.clone(), tn[0].clone()));
     parts.allowed.push((base.clone(), tn[1].clone()));
@@ -426,8 +441,14 @@ fn sdh_parts(p: &str) -> Parts {
         );
         match rot {
             Some(sign) => {
-                let mut j =
-                    revolute(&format!("{p}{f}_rotation"), &palm, &base, origin, Vector3::z() * sign, 0.0, FRAC_PI_2);
+                let mut j = FINGER.revolute(
+                    &format!("{p}{f}_rotation"),
+                    &palm,
+                    &base,
+                    origin,
+                    Vector3::z() * sign,
+                    (0.0, FRAC_PI_2),
+                );
                 if f == "f3" {
                     j = j.mimic(format!("{p}f1_rotation"), 1.0, 0.0);
                 }
@@ -439,23 +460,21 @@ fn sdh_parts(p: &str) -> Parts {
         }
         parts.links.push(phalanx(&prox, PHALANX, FINGER_WIDTH, FINGER_THICK, m, 0.012));
         parts.links.push(phalanx(&dist, PHALANX * 0.8, FINGER_WIDTH, FINGER_THICK, m, 0.012));
-        parts.joints.push(revolute(
+        parts.joints.push(FINGER.revolute(
             &format!("{p}{f}_j2"),
             &base,
             &prox,
             Isometry3::translation(0.0, 0.0, 0.018),
             Vector3::y(),
-            -FRAC_PI_2,
-            FRAC_PI_2,
+            (-FRAC_PI_2, FRAC_PI_2),
         ));
-        parts.joints.push(revolute(
+        parts.joints.push(FINGER.revolute(
             &format!("{p}{f}_j3"),
             &prox,
             &dist,
             Isometry3::translation(0.0, 0.0, PHALANX),
             Vector3::y(),
-            -FRAC_PI_2,
-            FRAC_PI_2,
+            (-FRAC_PI_2, FRAC_PI_2),
         ));
         parts.allowed.push((palm.clone(), prox.clone()));
         parts.allowed.push((base.clone(), dist.clone()));

@@ -11,7 +11,7 @@ use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion, Vect
 use opengrasp_core::model::{Geometry, Inertial, JointKind, JointSpec, Link, Robot, RobotBuilder, Shape};
 
 use crate::error::Result;
-use crate::hands::{armar3_hand_parts, armar3_hand_spec, Hand, Parts};
+use crate::hands::{armar3_hand_parts, armar3_hand_spec, Drive, Hand, Parts};
 
 /// Key dimensions of the humanoid (m); sources in the crate docs.
 pub mod dims {
@@ -35,17 +35,8 @@ pub mod dims {
     pub const WRIST_TO_HAND: f64 = 0.02;
 }
 
-fn revolute(
-    name: &str,
-    parent: &str,
-    child: &str,
-    origin: Isometry3<f64>,
-    axis: Vector3<f64>,
-    lo: f64,
-    hi: f64,
-) -> JointSpec {
-    JointSpec::new(name, JointKind::Revolute, parent, child).origin(origin).axis(axis).limits(lo, hi, 1.0, 60.0)
-}
+/// The arm, hip and head drives of the humanoid.
+const ARM: Drive = Drive { velocity: 1.0, effort: 60.0 };
 
 fn capsule_down(name: &str, length: f64, radius: f64, mass: f64) -> Link {
     let origin = Isometry3::translation(0.0, 0.0, -length / 2.0);
@@ -81,37 +72,41 @@ fn arm_parts(side: &str) -> Parts {
     p.links.push(Link::new(n("wrist_link3")).with_inertial(Inertial::solid_sphere(0.1, 0.02, Isometry3::identity())));
     let shoulder = Isometry3::translation(0.0, s * SHOULDER_OFFSET, SHOULDER_ABOVE_HIP);
     let id = Isometry3::identity();
-    p.joints.push(revolute(&n("shoulder_1"), "torso", &n("shoulder_link"), shoulder, Vector3::y(), -3.0, 0.8));
-    p.joints.push(revolute(
+    p.joints.push(ARM.revolute(&n("shoulder_1"), "torso", &n("shoulder_link"), shoulder, Vector3::y(), (-3.0, 0.8)));
+    p.joints.push(ARM.revolute(
         &n("shoulder_2"),
         &n("shoulder_link"),
         &n("shoulder_link2"),
         id,
         Vector3::x() * s,
-        -0.1,
-        1.6,
+        (-0.1, 1.6),
     ));
-    p.joints.push(revolute(&n("shoulder_3"), &n("shoulder_link2"), &n("upper_arm"), id, Vector3::z() * s, -1.6, 1.6));
-    p.joints.push(revolute(
+    p.joints.push(ARM.revolute(
+        &n("shoulder_3"),
+        &n("shoulder_link2"),
+        &n("upper_arm"),
+        id,
+        Vector3::z() * s,
+        (-1.6, 1.6),
+    ));
+    p.joints.push(ARM.revolute(
         &n("elbow"),
         &n("upper_arm"),
         &n("forearm"),
         Isometry3::translation(0.0, 0.0, -UPPER_ARM),
         -Vector3::y(),
-        0.0,
-        2.4,
+        (0.0, 2.4),
     ));
-    p.joints.push(revolute(
+    p.joints.push(ARM.revolute(
         &n("wrist_1"),
         &n("forearm"),
         &n("wrist_link1"),
         Isometry3::translation(0.0, 0.0, -FOREARM),
         Vector3::z() * s,
-        -1.6,
-        1.6,
+        (-1.6, 1.6),
     ));
-    p.joints.push(revolute(&n("wrist_2"), &n("wrist_link1"), &n("wrist_link2"), id, Vector3::x() * s, -0.6, 0.6));
-    p.joints.push(revolute(&n("wrist_3"), &n("wrist_link2"), &n("wrist_link3"), id, -Vector3::y(), -0.9, 0.9));
+    p.joints.push(ARM.revolute(&n("wrist_2"), &n("wrist_link1"), &n("wrist_link2"), id, Vector3::x() * s, (-0.6, 0.6)));
+    p.joints.push(ARM.revolute(&n("wrist_3"), &n("wrist_link2"), &n("wrist_link3"), id, -Vector3::y(), (-0.9, 0.9)));
     // Hand: fingers pointing down the arm, palm facing the body, thumb forward.
     let r = Rotation3::from_matrix_unchecked(Matrix3::from_columns(&[
         Vector3::new(0.0, -s, 0.0),
@@ -206,14 +201,13 @@ fn build_armar3() -> Result<Robot> {
                 .axis(Vector3::z())
                 .limits(-PI, PI, 1.0, 200.0),
         )
-        .joint(revolute(
+        .joint(ARM.revolute(
             "hip_yaw",
             "platform",
             "torso",
             Isometry3::translation(0.0, 0.0, HIP_HEIGHT),
             Vector3::z(),
-            -FRAC_PI_2,
-            FRAC_PI_2,
+            (-FRAC_PI_2, FRAC_PI_2),
         ));
     // Right arm first so its joints come first in the configuration after the hip.
     b = arm_parts("right").add_to(b);

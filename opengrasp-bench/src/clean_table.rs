@@ -15,7 +15,7 @@
 
 use std::sync::Arc;
 
-use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion};
+use nalgebra::{Isometry3, Translation3, UnitQuaternion};
 use opengrasp_core::collision::CollisionWorld;
 use opengrasp_core::scene::ObjectId;
 use rand::{Rng, SeedableRng};
@@ -68,6 +68,41 @@ pub struct ObjectReport {
     pub place: Option<RunRecord>,
 }
 
+/// What an episode achieved, summed over its queries (also the figures of a results file's
+/// episode records).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct EpisodeTotals {
+    /// Objects placed on the sideboard.
+    pub cleaned: usize,
+    /// Sum of setup times (s).
+    pub setup_time: f64,
+    /// Sum of planning times (s).
+    pub planning_time: f64,
+    /// Sum of post-processing times (s).
+    pub postprocessing_time: f64,
+    /// Sum of post-processed C-space lengths.
+    pub length: f64,
+    /// Sum of post-processed end-effector lengths (m).
+    pub ee_length: f64,
+    /// True if every post-processed path passed every validator.
+    pub all_valid: bool,
+}
+
+impl EpisodeTotals {
+    /// Nothing done yet (and nothing invalid yet).
+    pub fn empty() -> Self {
+        Self {
+            cleaned: 0,
+            setup_time: 0.0,
+            planning_time: 0.0,
+            postprocessing_time: 0.0,
+            length: 0.0,
+            ee_length: 0.0,
+            all_valid: true,
+        }
+    }
+}
+
 /// Outcome of one "Clean the Table" episode.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CleanTheTableReport {
@@ -77,34 +112,17 @@ pub struct CleanTheTableReport {
     pub seed: u64,
     /// Per-object queries, in order.
     pub objects: Vec<ObjectReport>,
-    /// Objects placed on the sideboard.
-    pub cleaned: usize,
-    /// Sum of setup times (s).
-    pub total_setup_time: f64,
-    /// Sum of planning times (s).
-    pub total_planning_time: f64,
-    /// Sum of post-processing times (s).
-    pub total_postprocessing_time: f64,
-    /// Sum of post-processed C-space lengths.
-    pub total_length: f64,
-    /// Sum of post-processed end-effector lengths (m).
-    pub total_ee_length: f64,
-    /// True if every post-processed path passed every validator.
-    pub all_valid: bool,
+    /// Sums over the queries.
+    #[serde(flatten)]
+    pub totals: EpisodeTotals,
 }
 
 fn top_of(scene: &opengrasp_core::scene::Scene, id: ObjectId) -> Result<f64> {
     let object = scene.object(id)?;
     let mut top = 0.0f64;
     for shape in &object.shapes {
-        let (lo, hi) = shape.geometry.local_aabb();
-        for c in 0..8 {
-            let p = Point3::new(
-                if c & 1 == 0 { lo.x } else { hi.x },
-                if c & 2 == 0 { lo.y } else { hi.y },
-                if c & 4 == 0 { lo.z } else { hi.z },
-            );
-            top = top.max((shape.origin * p).z);
+        for p in shape.aabb_corners() {
+            top = top.max(p.z);
         }
     }
     Ok(top)
@@ -158,13 +176,7 @@ pub fn clean_the_table(planner: &mut dyn MotionPlanner, options: &CleanTheTableO
         planner: planner.name().to_string(),
         seed: options.seed,
         objects: Vec::new(),
-        cleaned: 0,
-        total_setup_time: 0.0,
-        total_planning_time: 0.0,
-        total_postprocessing_time: 0.0,
-        total_length: 0.0,
-        total_ee_length: 0.0,
-        all_valid: true,
+        totals: EpisodeTotals::empty(),
     };
     let position_goal = |target: Isometry3<f64>| {
         Goal::Pose(PoseGoal {
@@ -201,16 +213,16 @@ pub fn clean_the_table(planner: &mut dyn MotionPlanner, options: &CleanTheTableO
         Ok(run_once(planner, &instance, &name, k, seed, setup, &options.benchmark))
     };
     let account = |report: &mut CleanTheTableReport, r: &RunRecord| {
-        report.total_setup_time += r.setup_time;
-        report.total_planning_time += r.planning_time;
-        report.total_postprocessing_time += r.postprocessing_time.unwrap_or(0.0);
+        report.totals.setup_time += r.setup_time;
+        report.totals.planning_time += r.planning_time;
+        report.totals.postprocessing_time += r.postprocessing_time.unwrap_or(0.0);
         if let Some(p) = &r.processed {
-            report.total_length += p.metrics.length;
-            report.total_ee_length += p.metrics.ee_length.unwrap_or(0.0);
+            report.totals.length += p.metrics.length;
+            report.totals.ee_length += p.metrics.ee_length.unwrap_or(0.0);
             let v = p.validity;
-            report.all_valid &= v.discrete && v.strict && v.continuous != Some(false);
+            report.totals.all_valid &= v.discrete && v.strict && v.continuous != Some(false);
         } else {
-            report.all_valid = false;
+            report.totals.all_valid = false;
         }
     };
     let final_full = |q: &[f64], r: &RunRecord| -> Option<Vec<f64>> {
@@ -246,15 +258,7 @@ pub fn clean_the_table(planner: &mut dyn MotionPlanner, options: &CleanTheTableO
         let offset = scene.attachment_of(id).map(|a| a.offset).unwrap_or_else(Isometry3::identity);
         let mut corners = Vec::new();
         for shape in &scene.object(id)?.shapes {
-            let (lo, hi) = shape.geometry.local_aabb();
-            for c in 0..8 {
-                let p = Point3::new(
-                    if c & 1 == 0 { lo.x } else { hi.x },
-                    if c & 2 == 0 { lo.y } else { hi.y },
-                    if c & 4 == 0 { lo.z } else { hi.z },
-                );
-                corners.push(offset * (shape.origin * p));
-            }
+            corners.extend(shape.aabb_corners().map(|p| offset * p));
         }
         let bound = MotionBound::from_robot_with(&robot, &group, &[(palm, corners)])?;
         // Place above a sideboard slot (top at 0.85 m, centre x = 5.73 m).
@@ -280,7 +284,7 @@ pub fn clean_the_table(planner: &mut dyn MotionPlanner, options: &CleanTheTableO
         // when it was grasped (a collision-free relative pose).
         let palm_at_place = scene.link_world_pose(rid, "right_hand_palm")?;
         scene.set_object_pose(id, palm_at_place * palm_at_grasp.inverse() * pose)?;
-        report.cleaned += 1;
+        report.totals.cleaned += 1;
     }
     Ok(report)
 }

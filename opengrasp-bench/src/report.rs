@@ -357,20 +357,21 @@ fn episode_table(m: &MotionSection) -> Table {
         .episodes
         .iter()
         .map(|e| {
+            let t = &e.totals;
             vec![
                 e.planner.clone(),
                 e.index.to_string(),
                 e.seed.to_string(),
                 match &e.error {
                     Some(err) => format!("error: {err}"),
-                    None => format!("{}/{}", e.cleaned, e.objects.len()),
+                    None => format!("{}/{}", t.cleaned, e.objects.len()),
                 },
-                format!("{:.2}", e.setup_time * 1e3),
-                format!("{:.2}", e.planning_time * 1e3),
-                format!("{:.2}", e.postprocessing_time),
-                format!("{:.3}", e.length),
-                format!("{:.3}", e.ee_length),
-                if e.all_valid { "yes" } else { "no" }.to_string(),
+                format!("{:.2}", t.setup_time * 1e3),
+                format!("{:.2}", t.planning_time * 1e3),
+                format!("{:.2}", t.postprocessing_time),
+                format!("{:.3}", t.length),
+                format!("{:.3}", t.ee_length),
+                if t.all_valid { "yes" } else { "no" }.to_string(),
             ]
         })
         .collect();

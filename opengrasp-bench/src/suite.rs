@@ -48,7 +48,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
 
-use crate::clean_table::{clean_the_table, CleanTheTableOptions, TABLE_OBJECTS};
+use crate::clean_table::{clean_the_table, CleanTheTableOptions, EpisodeTotals, TABLE_OBJECTS};
 use crate::scenes::{armar_ik_scene, armar_standard_scene, ik_scene, standard_scene, CheckerKind};
 use nalgebra::{Isometry3, Vector3};
 use opengrasp_core::hand::Hand;
@@ -649,13 +649,7 @@ impl Suite {
             index,
             seed,
             objects: TABLE_OBJECTS.iter().map(|o| o.to_string()).collect(),
-            cleaned: 0,
-            setup_time: 0.0,
-            planning_time: 0.0,
-            postprocessing_time: 0.0,
-            length: 0.0,
-            ee_length: 0.0,
-            all_valid: false,
+            totals: EpisodeTotals { all_valid: false, ..EpisodeTotals::empty() },
             error: None,
         };
         match clean_the_table(planner.as_mut(), &options) {
@@ -670,13 +664,7 @@ impl Suite {
                     r.planner = entry.info.name.clone();
                     r.run += index * queries;
                 }
-                episode.cleaned = report.cleaned;
-                episode.setup_time = report.total_setup_time;
-                episode.planning_time = report.total_planning_time;
-                episode.postprocessing_time = report.total_postprocessing_time;
-                episode.length = report.total_length;
-                episode.ee_length = report.total_ee_length;
-                episode.all_valid = report.all_valid;
+                episode.totals = report.totals;
                 (runs, episode)
             }
             Err(e) => {

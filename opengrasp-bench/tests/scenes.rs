@@ -44,15 +44,15 @@ fn clean_the_table_carries_one_object() {
     use opengrasp_bench::clean_table::{clean_the_table, CleanTheTableOptions};
     let options = CleanTheTableOptions { objects: 1, seed: 2, ..Default::default() };
     let report = clean_the_table(&mut RrtConnect::default(), &options).unwrap();
-    assert_eq!(report.cleaned, 1);
-    assert!(report.all_valid);
+    assert_eq!(report.totals.cleaned, 1);
+    assert!(report.totals.all_valid);
     let object = &report.objects[0];
     let place = object.place.as_ref().unwrap();
     for r in [&object.grasp, place] {
         assert_eq!(r.status, RunStatus::Solved);
         assert!(r.ik_position_error.unwrap() <= 1e-3);
     }
-    assert!(report.total_length > 0.0 && report.total_ee_length > 0.0);
+    assert!(report.totals.length > 0.0 && report.totals.ee_length > 0.0);
     let too_many = CleanTheTableOptions { objects: 5, ..Default::default() };
     assert!(clean_the_table(&mut RrtConnect::default(), &too_many).is_err());
 }

@@ -220,3 +220,8 @@ pub(crate) fn ensure_finite(what: &str, values: impl IntoIterator<Item = f64>) -
         Err(CoreError::NonFinite { what: what.to_string() })
     }
 }
+
+/// Returns `Err(CoreError::NonFinite)` unless the pose's translation and rotation are finite.
+pub(crate) fn ensure_finite_pose(what: &str, pose: &nalgebra::Isometry3<f64>) -> Result<()> {
+    ensure_finite(what, pose.translation.vector.iter().chain(pose.rotation.coords.iter()).copied())
+}

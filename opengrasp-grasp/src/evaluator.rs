@@ -190,7 +190,7 @@ fn hand_radius(hand: &Hand, data: &HandData) -> Result<f64> {
         let to_palm = rfp.inverse();
         for (l, link) in robot.links().iter().enumerate() {
             for s in &link.collisions {
-                for c in shape_corners(s) {
+                for c in s.aabb_corners() {
                     r = r.max((to_palm * (fk.as_slice()[l] * c)).coords.norm());
                 }
             }
@@ -234,20 +234,6 @@ struct ClosingDof {
 /// [`GraspError::Core`] if the hand's model cannot be evaluated.
 pub fn hand_info(hand: &Hand) -> Result<HandInfo> {
     Ok(hand_data(hand)?.info)
-}
-
-fn shape_corners(shape: &Shape) -> [Point3<f64>; 8] {
-    let (lo, hi) = shape.geometry.local_aabb();
-    let mut out = [Point3::origin(); 8];
-    for (k, c) in out.iter_mut().enumerate() {
-        let p = Point3::new(
-            if k & 1 == 0 { lo.x } else { hi.x },
-            if k & 2 == 0 { lo.y } else { hi.y },
-            if k & 4 == 0 { lo.z } else { hi.z },
-        );
-        *c = shape.origin * p;
-    }
-    out
 }
 
 fn hand_data(hand: &Hand) -> Result<HandData> {
@@ -308,7 +294,7 @@ fn hand_data(hand: &Hand) -> Result<HandData> {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for (l, link) in robot.links().iter().enumerate() {
         for s in &link.collisions {
-            for c in shape_corners(s) {
+            for c in s.aabb_corners() {
                 let t = (to_palm * (fk.as_slice()[l] * c)).coords.dot(&closing);
                 lo = lo.min(t);
                 hi = hi.max(t);
@@ -339,7 +325,7 @@ fn hand_data(hand: &Hand) -> Result<HandData> {
                 }
                 let mut reach: f64 = 0.0;
                 for s in &link.collisions {
-                    for c in shape_corners(s) {
+                    for c in s.aabb_corners() {
                         reach = reach.max(((fk.as_slice()[l] * c).coords - origin).norm());
                     }
                 }

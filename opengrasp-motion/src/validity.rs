@@ -251,15 +251,7 @@ impl MotionBound {
             }
             let mut pts = carried;
             for shape in &link.collisions {
-                let (lo, hi) = shape.geometry.local_aabb();
-                for c in 0..8 {
-                    let p = Point3::new(
-                        if c & 1 == 0 { lo.x } else { hi.x },
-                        if c & 2 == 0 { lo.y } else { hi.y },
-                        if c & 4 == 0 { lo.z } else { hi.z },
-                    );
-                    pts.push(shape.origin * p);
-                }
+                pts.extend(shape.aabb_corners());
             }
             links.push(LinkId(i));
             points.push(pts);

@@ -129,20 +129,9 @@ pub struct EpisodeRecord {
     pub seed: u64,
     /// Objects to carry, in order.
     pub objects: Vec<String>,
-    /// Objects placed on the sideboard.
-    pub cleaned: usize,
-    /// Sum of setup times (s).
-    pub setup_time: f64,
-    /// Sum of planning times (s).
-    pub planning_time: f64,
-    /// Sum of post-processing times (s).
-    pub postprocessing_time: f64,
-    /// Sum of post-processed C-space lengths.
-    pub length: f64,
-    /// Sum of post-processed end-effector lengths (m).
-    pub ee_length: f64,
-    /// True if every post-processed path passed every validator.
-    pub all_valid: bool,
+    /// Sums over its queries (flattened into the record in JSON).
+    #[serde(flatten)]
+    pub totals: crate::clean_table::EpisodeTotals,
     /// Why the episode could not run, if it could not (e.g. an asset error).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub error: Option<String>,

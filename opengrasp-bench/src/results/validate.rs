@@ -124,13 +124,14 @@ pub(super) fn validate_motion(m: &MotionSection) -> Result<()> {
     }
     for (i, e) in m.episodes.iter().enumerate() {
         let f = |name: &str| format!("motion.episodes[{i}].{name}");
-        at_most(&f("cleaned"), e.cleaned, "objects", e.objects.len())?;
+        let t = &e.totals;
+        at_most(&f("cleaned"), t.cleaned, "objects", e.objects.len())?;
         for (name, v) in [
-            ("setup_time", e.setup_time),
-            ("planning_time", e.planning_time),
-            ("postprocessing_time", e.postprocessing_time),
-            ("length", e.length),
-            ("ee_length", e.ee_length),
+            ("setup_time", t.setup_time),
+            ("planning_time", t.planning_time),
+            ("postprocessing_time", t.postprocessing_time),
+            ("length", t.length),
+            ("ee_length", t.ee_length),
         ] {
             non_negative(&f(name), v)?;
         }

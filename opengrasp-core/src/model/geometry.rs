@@ -133,6 +133,13 @@ pub struct Shape {
 }
 
 impl Shape {
+    /// The eight corners of the geometry's local bounding box, in the parent frame (a
+    /// conservative hull of the shape: every point of it lies in their convex hull).
+    pub fn aabb_corners(&self) -> [Point3<f64>; 8] {
+        let (lo, hi) = self.geometry.local_aabb();
+        parry3d_f64::bounding_volume::Aabb::new(lo, hi).vertices().map(|p| self.origin * p)
+    }
+
     /// A geometry at `origin` in its parent frame.
     pub fn new(origin: Isometry3<f64>, geometry: Geometry) -> Self {
         Self { origin, geometry }

@@ -5,8 +5,8 @@ use std::sync::Arc;
 use nalgebra::{Isometry3, Point3, Vector3};
 
 use super::{
-    advance_reference, check_pose, check_target, check_vec, substeps, velocity_limit, BodyVelocity, JointTarget,
-    PhysicsEngine, PhysicsOptions,
+    advance_reference, check_target, check_vec, substeps, velocity_limit, BodyVelocity, JointTarget, PhysicsEngine,
+    PhysicsOptions,
 };
 use crate::error::{CoreError, Result};
 use crate::kinematics::link_pose_unchecked;
@@ -180,7 +180,7 @@ impl PhysicsEngine for MockBackend {
 
     fn set_object_pose(&mut self, object: ObjectId, pose: Isometry3<f64>) -> Result<()> {
         self.object(object)?;
-        check_pose("object pose", &pose)?;
+        crate::error::ensure_finite_pose("object pose", &pose)?;
         let o = &mut self.objects[object.0];
         o.pose = pose;
         o.velocity = BodyVelocity::default();

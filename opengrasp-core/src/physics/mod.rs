@@ -405,10 +405,6 @@ pub(crate) fn check_vec(what: &str, v: &Vector3<f64>) -> Result<()> {
     crate::error::ensure_finite(what, v.iter().copied())
 }
 
-pub(crate) fn check_pose(what: &str, pose: &Isometry3<f64>) -> Result<()> {
-    crate::error::ensure_finite(what, pose.translation.vector.iter().chain(pose.rotation.coords.iter()).copied())
-}
-
 /// Velocity limit of configuration index `dof`, falling back to the option's default.
 pub(crate) fn velocity_limit(robot: &crate::model::Robot, dof: usize, options: &PhysicsOptions) -> f64 {
     match robot.joint(robot.dof_joint(dof)).limits {

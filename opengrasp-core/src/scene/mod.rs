@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use nalgebra::{Isometry3, Matrix3, Point3};
 
-use crate::error::{ensure_finite, CoreError, Result};
+use crate::error::{CoreError, Result};
 use crate::kinematics::link_pose_unchecked;
 use crate::model::{LinkId, Robot, Shape};
 
@@ -97,10 +97,6 @@ pub struct Scene {
     attachments: Vec<Attachment>,
 }
 
-fn check_pose(what: &str, pose: &Isometry3<f64>) -> Result<()> {
-    ensure_finite(what, pose.translation.vector.iter().chain(pose.rotation.coords.iter()).copied())
-}
-
 fn check_unique<'a>(kind: &str, name: &str, mut existing: impl Iterator<Item = &'a str>) -> Result<()> {
     if existing.any(|n| n == name) {
         Err(CoreError::InvalidParameter {
@@ -125,7 +121,7 @@ impl Scene {
     /// pose, [`CoreError::InvalidGeometry`] for bad shapes.
     pub fn add_body(&mut self, body: StaticBody) -> Result<BodyId> {
         check_unique("body", &body.name, self.bodies.iter().map(|b| b.name.as_str()))?;
-        check_pose(&format!("pose of body `{}`", body.name), &body.pose)?;
+        crate::error::ensure_finite_pose(&format!("pose of body `{}`", body.name), &body.pose)?;
         for s in &body.shapes {
             s.geometry.validate()?;
         }
@@ -140,7 +136,7 @@ impl Scene {
     /// negative friction.
     pub fn add_object(&mut self, object: SceneObject) -> Result<ObjectId> {
         check_unique("object", &object.name, self.objects.iter().map(|o| o.name.as_str()))?;
-        check_pose(&format!("pose of object `{}`", object.name), &object.pose)?;
+        crate::error::ensure_finite_pose(&format!("pose of object `{}`", object.name), &object.pose)?;
         if !(object.mass.is_finite() && object.mass > 0.0) {
             return Err(CoreError::InvalidParameter {
                 name: "mass".into(),
@@ -173,7 +169,7 @@ impl Scene {
     ) -> Result<RobotId> {
         let name = name.into();
         check_unique("robot", &name, self.robots.iter().map(|r| r.name.as_str()))?;
-        check_pose(&format!("base pose of robot `{name}`"), &base_pose)?;
+        crate::error::ensure_finite_pose(&format!("base pose of robot `{name}`"), &base_pose)?;
         let q = robot.home_configuration();
         self.robots.push(SceneRobot { name, robot, base_pose, q });
         Ok(RobotId(self.robots.len() - 1))
@@ -253,7 +249,7 @@ impl Scene {
     /// [`CoreError::InvalidHandle`] or [`CoreError::NonFinite`].
     pub fn set_robot_base_pose(&mut self, id: RobotId, pose: Isometry3<f64>) -> Result<()> {
         self.robot(id)?;
-        check_pose("robot base pose", &pose)?;
+        crate::error::ensure_finite_pose("robot base pose", &pose)?;
         self.robots[id.0].base_pose = pose;
         self.update_attached(id);
         Ok(())
@@ -265,7 +261,7 @@ impl Scene {
     /// [`CoreError::InvalidHandle`] or [`CoreError::NonFinite`].
     pub fn set_object_pose(&mut self, id: ObjectId, pose: Isometry3<f64>) -> Result<()> {
         self.object(id)?;
-        check_pose("object pose", &pose)?;
+        crate::error::ensure_finite_pose("object pose", &pose)?;
         self.attachments.retain(|a| a.object != id);
         self.objects[id.0].pose = pose;
         Ok(())

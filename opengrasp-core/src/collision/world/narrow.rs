@@ -1,0 +1,121 @@
+//! Narrow-phase tests between two placed shapes: intersection, exact distance (with the
+//! closed-form capsule–box case) and bounding-box distance.
+
+use nalgebra::Isometry3;
+use parry3d_f64::bounding_volume::Aabb;
+use parry3d_f64::query;
+use parry3d_f64::shape::Shape as ParryShape;
+
+/// Euclidean distance between two AABBs (0 when they overlap): a lower bound of the distance
+/// between anything they contain.
+pub(super) fn aabb_distance(a: &Aabb, b: &Aabb) -> f64 {
+    let lo = b.mins - a.maxs;
+    let hi = a.mins - b.maxs;
+    let gap = lo.sup(&hi).sup(&nalgebra::Vector3::zeros());
+    gap.norm()
+}
+
+/// Conservative intersection test: an unsupported shape pair falls back to the distance query,
+/// and counts as colliding if that is unsupported too.
+pub(super) fn intersects(p1: &Isometry3<f64>, s1: &dyn ParryShape, p2: &Isometry3<f64>, s2: &dyn ParryShape) -> bool {
+    match query::intersection_test(p1, s1, p2, s2) {
+        Ok(hit) => hit,
+        Err(_) => distance(p1, s1, p2, s2).is_none_or(|d| d <= 0.0),
+    }
+}
+
+/// Exact distance (0 when overlapping), `None` for unsupported shape pairs.
+///
+/// parry3d 0.25.3's cuboid–cuboid distance (`distance_cuboid_cuboid`) transforms the second
+/// witness point twice and over-estimates separations, so box pairs go through GJK instead.
+/// Capsule–cuboid pairs (robot links against boxes, the common case) use the closed form of
+/// [`capsule_cuboid_distance`], several times faster than GJK.
+pub(super) fn distance(
+    p1: &Isometry3<f64>,
+    s1: &dyn ParryShape,
+    p2: &Isometry3<f64>,
+    s2: &dyn ParryShape,
+) -> Option<f64> {
+    if let (Some(c1), Some(c2)) = (s1.as_cuboid(), s2.as_cuboid()) {
+        return Some(query::details::distance_support_map_support_map(&p1.inv_mul(p2), c1, c2));
+    }
+    if let (Some(c), Some(b)) = (s1.as_capsule(), s2.as_cuboid()) {
+        return Some(capsule_cuboid_distance(p1, c, p2, b));
+    }
+    if let (Some(b), Some(c)) = (s1.as_cuboid(), s2.as_capsule()) {
+        return Some(capsule_cuboid_distance(p2, c, p1, b));
+    }
+    query::distance(p1, s1, p2, s2).ok()
+}
+
+/// Distance between a capsule and a cuboid (0 when they overlap), in closed form.
+///
+/// In the box frame, the squared distance from the capsule's axis point `p(t) = a + t d` to the
+/// box is `Σᵢ max(|pᵢ(t)| − hᵢ, 0)²`: convex and quadratic between the parameters where a
+/// coordinate crosses a face plane (`pᵢ(t) = ±hᵢ`). Minimising the quadratic on each of these
+/// (at most seven) intervals gives the axis–box distance exactly; the capsule radius is then
+/// subtracted.
+pub(super) fn capsule_cuboid_distance(
+    capsule_pose: &Isometry3<f64>,
+    capsule: &parry3d_f64::shape::Capsule,
+    box_pose: &Isometry3<f64>,
+    cuboid: &parry3d_f64::shape::Cuboid,
+) -> f64 {
+    let to_box = box_pose.inv_mul(capsule_pose);
+    let a = to_box * capsule.segment.a;
+    let d = to_box * capsule.segment.b - a;
+    let h = cuboid.half_extents;
+    let mut breaks = [0.0_f64; 8];
+    let mut n = 0;
+    breaks[n] = 0.0;
+    n += 1;
+    for i in 0..3 {
+        if d[i] != 0.0 {
+            for face in [-h[i], h[i]] {
+                let t = (face - a[i]) / d[i];
+                if t > 0.0 && t < 1.0 {
+                    breaks[n] = t;
+                    n += 1;
+                }
+            }
+        }
+    }
+    breaks[n] = 1.0;
+    n += 1;
+    let breaks = &mut breaks[..n];
+    breaks.sort_unstable_by(f64::total_cmp);
+    let sq_dist = |t: f64| -> f64 {
+        (0..3)
+            .map(|i| {
+                let excess = (a[i] + t * d[i]).abs() - h[i];
+                if excess > 0.0 {
+                    excess * excess
+                } else {
+                    0.0
+                }
+            })
+            .sum()
+    };
+    let mut best = sq_dist(0.0).min(sq_dist(1.0));
+    for w in breaks.windows(2) {
+        let (t0, t1) = (w[0], w[1]);
+        if t1 <= t0 {
+            continue;
+        }
+        // Active faces are fixed on the interval: g(t) = Σ (c + t e)² over active axes.
+        let mid = 0.5 * (t0 + t1);
+        let (mut num, mut den) = (0.0, 0.0);
+        for i in 0..3 {
+            let p = a[i] + mid * d[i];
+            if p.abs() > h[i] {
+                let sign = p.signum();
+                let (c, e) = (sign * a[i] - h[i], sign * d[i]);
+                num -= c * e;
+                den += e * e;
+            }
+        }
+        let t = if den > 0.0 { (num / den).clamp(t0, t1) } else { mid };
+        best = best.min(sq_dist(t));
+    }
+    (best.sqrt() - capsule.radius).max(0.0)
+}

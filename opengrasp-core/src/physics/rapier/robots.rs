@@ -1,0 +1,295 @@
+//! Robots as rapier multibodies: building them, their motors and joint measurements.
+
+use std::f64::consts::PI;
+use std::sync::Arc;
+
+use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
+use rapier3d_f64::parry::mass_properties::MassProperties;
+use rapier3d_f64::prelude::{
+    ActiveHooks, ColliderBuilder, FixedJointBuilder, GenericJointBuilder, JointAxesMask, JointAxis, RigidBodyBuilder,
+    RigidBodyHandle,
+};
+
+use super::{advance_reference, velocity_limit, ContactBody, JointTarget};
+use crate::error::{CoreError, Result};
+use crate::kinematics::forward_kinematics_into;
+use crate::model::{JointId, JointKind, LinkId, Shape};
+use crate::scene::{ObjectId, RobotId, Scene};
+
+use super::colliders::{convert, encode};
+use super::{DofState, JointEntry, RapierBackend, RobotEntry};
+
+impl RapierBackend {
+    /// Adds colliders for `shapes` (placed at `offset` in the body) to `body`.
+    pub(super) fn add_colliders(
+        &mut self,
+        body: RigidBodyHandle,
+        shapes: &[Shape],
+        offset: &Isometry3<f64>,
+        is_static: bool,
+        friction: f64,
+        owner: ContactBody,
+    ) -> Result<()> {
+        for s in shapes {
+            let (shape, local) = convert(&s.geometry, is_static)?;
+            let mut builder = ColliderBuilder::new(shape)
+                .position(offset * s.origin * local)
+                .density(0.0)
+                .friction(friction)
+                .user_data(encode(owner));
+            if matches!(owner, ContactBody::Link { .. }) {
+                builder = builder.active_hooks(ActiveHooks::FILTER_CONTACT_PAIRS);
+            }
+            self.colliders.insert_with_parent(builder.build(), body, &mut self.bodies);
+        }
+        Ok(())
+    }
+
+    pub(super) fn add_robot(&mut self, id: RobotId, scene: &Scene) -> Result<()> {
+        let sr = scene.robot(id)?;
+        let robot = Arc::clone(&sr.robot);
+        sr.robot.validate_configuration(&sr.q)?;
+        let mut fk = Vec::new();
+        forward_kinematics_into(&robot, &sr.q, &mut fk);
+        let n_links = robot.links().len();
+
+        // Which link's body carries each link (fixed joints merge into the parent's body).
+        let mut carrier: Vec<LinkId> = (0..n_links).map(LinkId).collect();
+        for &j in robot.joints_topological() {
+            let joint = robot.joint(j);
+            if joint.kind == JointKind::Fixed {
+                carrier[joint.child.0] = carrier[joint.parent.0];
+            }
+        }
+        let offset = |l: usize| fk[carrier[l].0].inverse() * fk[l];
+
+        // One rigid body per carrier link, with the merged mass properties.
+        let mut handles: Vec<Option<RigidBodyHandle>> = vec![None; n_links];
+        for c in 0..n_links {
+            if carrier[c].0 != c {
+                continue;
+            }
+            let is_root = c == robot.root().0;
+            let mut mass = MassProperties::default();
+            for l in (0..n_links).filter(|&l| carrier[l].0 == c) {
+                let link = robot.link(LinkId(l));
+                let off = offset(l);
+                match &link.inertial {
+                    Some(i) if i.is_physical() => {
+                        let frame = off * i.origin;
+                        let r = frame.rotation.to_rotation_matrix();
+                        let inertia = r.matrix() * i.inertia * r.matrix().transpose();
+                        mass += MassProperties::with_inertia_matrix(
+                            Point3::from(frame.translation.vector),
+                            i.mass,
+                            inertia,
+                        );
+                    }
+                    _ => {
+                        for s in &link.collisions {
+                            let (shape, local) = convert(&s.geometry, false)?;
+                            mass += shape
+                                .mass_properties(self.options.link_density)
+                                .transform_by(&(off * s.origin * local));
+                        }
+                    }
+                }
+            }
+            if mass.mass().is_nan() || mass.mass() <= 0.0 {
+                let m = self.options.min_link_mass;
+                mass = MassProperties::new(Point3::origin(), m, Vector3::repeat(0.4 * m * 0.02 * 0.02));
+            }
+            let builder = if is_root { RigidBodyBuilder::fixed() } else { RigidBodyBuilder::dynamic() };
+            let body = builder
+                .pose(sr.base_pose * fk[c])
+                .additional_mass_properties(mass)
+                .gravity_scale(if self.options.gravity_compensation { 0.0 } else { 1.0 })
+                .can_sleep(false)
+                .build();
+            handles[c] = Some(self.bodies.insert(body));
+        }
+        let mut link_body = Vec::with_capacity(n_links);
+        for l in 0..n_links {
+            let body =
+                handles[carrier[l].0].ok_or_else(|| CoreError::Physics { reason: "link without body".into() })?;
+            let off = offset(l);
+            let owner = ContactBody::Link { robot: id, link: LinkId(l) };
+            let shapes = robot.link(LinkId(l)).collisions.clone();
+            self.add_colliders(body, &shapes, &off, false, self.options.link_friction, owner)?;
+            link_body.push((body, off));
+        }
+
+        // Multibody joints with motors, in topological order.
+        let (k, c) = (self.options.joint_stiffness, self.options.joint_damping);
+        let mut joints = vec![None; robot.joints().len()];
+        for &j in robot.joints_topological() {
+            let joint = robot.joint(j);
+            if joint.kind == JointKind::Fixed {
+                continue;
+            }
+            let prismatic = joint.kind == JointKind::Prismatic;
+            let axis_rot = UnitQuaternion::rotation_between(&Vector3::x(), &joint.axis)
+                .unwrap_or_else(|| UnitQuaternion::from_axis_angle(&Vector3::z_axis(), PI));
+            let frame2 = Isometry3::from_parts(Translation3::identity(), axis_rot);
+            let (parent_body, parent_off) = link_body[joint.parent.0];
+            let frame1 = parent_off * joint.origin * frame2;
+            let axis = if prismatic { JointAxis::LinX } else { JointAxis::AngX };
+            let locked =
+                if prismatic { JointAxesMask::LOCKED_PRISMATIC_AXES } else { JointAxesMask::LOCKED_REVOLUTE_AXES };
+            let q0 = robot.joint_position(&sr.q, j);
+            let mut builder = GenericJointBuilder::new(locked)
+                .local_frame1(frame1)
+                .local_frame2(frame2)
+                .contacts_enabled(false)
+                .set_motor(axis, q0, 0.0, k, c);
+            if let Some(l) = joint.limits {
+                if joint.kind != JointKind::Continuous {
+                    builder = builder.limits(axis, [l.lower, l.upper]);
+                }
+                if l.effort.is_finite() && l.effort > 0.0 {
+                    builder = builder.motor_max_force(axis, l.effort);
+                }
+            }
+            let child_body = link_body[joint.child.0].0;
+            let handle =
+                self.multibody_joints.insert(parent_body, child_body, builder.build(), true).ok_or_else(|| {
+                    CoreError::Physics { reason: format!("rapier rejected multibody joint `{}`", joint.name) }
+                })?;
+            joints[j.0] = Some(JointEntry { handle, prismatic, frame1, frame2 });
+        }
+
+        // Move the multibody to the scene configuration.
+        if let Some(first) = joints.iter().flatten().next() {
+            let (mb, _) = self
+                .multibody_joints
+                .get_mut(first.handle)
+                .ok_or_else(|| CoreError::Physics { reason: "multibody vanished".into() })?;
+            mb.forward_kinematics(&self.bodies, true);
+            let mut assembly = Vec::with_capacity(mb.num_links());
+            let mut acc = 0;
+            for link in mb.links() {
+                assembly.push(acc);
+                acc += link.joint().ndofs();
+            }
+            let mut disp = vec![0.0; mb.ndofs()];
+            for (ji, entry) in joints.iter().enumerate() {
+                if let Some(e) = entry {
+                    let link_id = self.multibody_joints.get(e.handle).map(|(_, l)| l).unwrap_or(0);
+                    disp[assembly[link_id]] = robot.joint_position(&sr.q, JointId(ji));
+                }
+            }
+            let (mb, _) = self
+                .multibody_joints
+                .get_mut(first.handle)
+                .ok_or_else(|| CoreError::Physics { reason: "multibody vanished".into() })?;
+            mb.apply_displacements(&disp);
+            mb.forward_kinematics(&self.bodies, true);
+            mb.update_rigid_bodies(&mut self.bodies, true);
+        }
+
+        let dofs = (0..robot.dof())
+            .map(|i| DofState {
+                target: JointTarget::Position(sr.q[i]),
+                vmax: velocity_limit(&robot, i, &self.options),
+                reference: sr.q[i],
+                reference_velocity: 0.0,
+            })
+            .collect();
+        let n = robot.dof();
+        self.robots.push(RobotEntry { robot, link_body, joints, dofs, q: sr.q.clone(), qd: vec![0.0; n] });
+        Ok(())
+    }
+
+    /// Attaches with a fixed joint; `offset` is the object pose in the link frame.
+    pub(super) fn attach_with_offset(
+        &mut self,
+        object: ObjectId,
+        robot: RobotId,
+        link: LinkId,
+        offset: Isometry3<f64>,
+    ) -> Result<()> {
+        let (link_body, link_off) = self.robots[robot.0].link_body[link.0];
+        // rapier 0.30 anchors an impulse joint on a multibody link at the link's centre of mass
+        // rather than its frame (measured: the object ends up offset by exactly the link's local
+        // centre of mass), so shift the frame by it. A fixed *multibody* joint would avoid this,
+        // but rapier cannot append one to a multibody whose root is already fixed.
+        let com = self.bodies[link_body].mass_properties().local_mprops.local_com;
+        let frame = Translation3::from(com.coords) * link_off * offset;
+        let joint = FixedJointBuilder::new().local_frame2(frame).contacts_enabled(false).build();
+        let handle = self.impulse_joints.insert(self.objects[object.0].body, link_body, joint, true);
+        self.objects[object.0].attachment = Some((robot, link, handle));
+        Ok(())
+    }
+
+    /// Updates motor targets from the references for one substep of length `h`.
+    pub(super) fn drive_motors(&mut self, h: f64) {
+        let (k, c) = (self.options.joint_stiffness, self.options.joint_damping);
+        for r in &mut self.robots {
+            for (i, d) in r.dofs.iter_mut().enumerate() {
+                let limits = r.robot.dof_limits(i);
+                let next = match d.target {
+                    JointTarget::Position(_) => advance_reference(d.reference, d.target, d.vmax, limits, h),
+                    JointTarget::Velocity(_) => advance_reference(r.q[i], d.target, d.vmax, limits, h),
+                };
+                let base = if matches!(d.target, JointTarget::Position(_)) { d.reference } else { r.q[i] };
+                d.reference_velocity = (next - base) / h;
+                d.reference = next;
+            }
+            let refs: Vec<f64> = r.dofs.iter().map(|d| d.reference).collect();
+            for (ji, entry) in r.joints.iter().enumerate() {
+                let Some(e) = entry else { continue };
+                let j = JointId(ji);
+                let Some((dof, factor)) = r.robot.driving_dof(j) else { continue };
+                let d = r.dofs[dof];
+                let pos = r.robot.joint_position(&refs, j);
+                let vel = factor * d.reference_velocity;
+                // A dof under velocity control has no position spring; mimic joints always do.
+                let velocity_mode = matches!(d.target, JointTarget::Velocity(_)) && r.robot.joint(j).dof.is_some();
+                let stiffness = if velocity_mode { 0.0 } else { k };
+                let axis = if e.prismatic { JointAxis::LinX } else { JointAxis::AngX };
+                if let Some(link) = self.multibody_joints.get_mut(e.handle).and_then(|(mb, l)| mb.link_mut(l)) {
+                    link.joint.data.set_motor(axis, pos, vel, stiffness, c);
+                }
+            }
+        }
+    }
+
+    /// Records the warm-start impulses the solver will count again in its next step.
+    ///
+    /// rapier 0.30 adds a contact's warm-start impulse (the previous step's last-substep impulse)
+    /// into the total impulse it reports, so [`PhysicsEngine::contacts`] subtracts it.
+    pub(super) fn snapshot_warmstart(&mut self) {
+        self.warmstart.clear();
+        for pair in self.narrow_phase.contact_pairs() {
+            for m in &pair.manifolds {
+                for p in &m.points {
+                    let key = (pair.collider1, pair.collider2, p.fid1.0, p.fid2.0);
+                    self.warmstart.insert(key, (p.data.warmstart_impulse, p.data.warmstart_tangent_impulse));
+                }
+            }
+        }
+    }
+
+    /// Reads joint positions (unwrapping revolute angles) and velocities after a substep.
+    pub(super) fn measure_joints(&mut self) {
+        for r in &mut self.robots {
+            for i in 0..r.q.len() {
+                let j = r.robot.dof_joint(i);
+                let Some(e) = r.joints[j.0] else { continue };
+                let Some((mb, link_id)) = self.multibody_joints.get(e.handle) else { continue };
+                let Some(link) = mb.link(link_id) else { continue };
+                let rel = e.frame1.inverse() * link.joint().body_to_parent() * e.frame2;
+                let value = if e.prismatic {
+                    rel.translation.vector.x
+                } else {
+                    let q = rel.rotation.quaternion();
+                    let angle = 2.0 * q.i.atan2(q.w);
+                    let prev = r.q[i];
+                    angle + 2.0 * PI * ((prev - angle) / (2.0 * PI)).round()
+                };
+                r.q[i] = value;
+                r.qd[i] = mb.joint_velocity(link).get(0).copied().unwrap_or(0.0);
+            }
+        }
+    }
+}
