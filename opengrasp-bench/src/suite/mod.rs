@@ -21,7 +21,7 @@
 //! Clean the Table (scene 3, [`crate::clean_table`]) runs whole episodes: its
 //! grasp and place queries are filed as runs of [`CLEAN_THE_TABLE_SCENE`] (run
 //! `episode · 8 + 2 · object + {0: grasp, 1: place}`) and each episode as an
-//! [`EpisodeRecord`].
+//! [`EpisodeRecord`](crate::results::EpisodeRecord).
 //!
 //! The default size finishes in a few minutes on two cores in release mode: `opengrasp run
 //! all` took 97 s wall (176 s CPU) on a shared two-core Xeon VM (grasp: 4040 candidates
@@ -44,31 +44,25 @@
 //! # }
 //! ```
 
-use std::sync::atomic::{AtomicUsize, Ordering};
+mod run;
+
 use std::sync::Arc;
 use std::time::Instant;
 
-use crate::clean_table::{clean_the_table, CleanTheTableOptions, EpisodeTotals, TABLE_OBJECTS};
 use crate::scenes::{armar_ik_scene, armar_standard_scene, ik_scene, standard_scene, CheckerKind};
 use nalgebra::{Isometry3, Vector3};
 use opengrasp_core::hand::Hand;
 use opengrasp_core::model::{samples, JointGroup};
 use opengrasp_core::object::ObjectModel;
-use opengrasp_grasp::benchmark::{run_grasp_benchmark_with, GraspBenchmarkConfig};
+use opengrasp_grasp::benchmark::GraspBenchmarkConfig;
 use opengrasp_grasp::planners::{GraspPlanner, MedialAxisPlanner, SurfaceNormalPlanner};
-use opengrasp_motion::benchmark::{
-    run_benchmark, BenchmarkOptions, BenchmarkScene, RunRecord, RunStatus, SceneInstance, Summary,
-};
+use opengrasp_motion::benchmark::{BenchmarkOptions, BenchmarkScene, SceneInstance};
 use opengrasp_motion::planners::{IkRrt, Prm, PrmOptions, RrtConnect};
 use opengrasp_motion::validity::{ObstacleBox, SphereWorld};
 use opengrasp_motion::{Goal, MotionPlanner};
-use rayon::prelude::*;
 
 use crate::paper::PAPER_OBJECTS;
-use crate::results::{
-    Category, EpisodeRecord, Error, GraspRecord, GraspSection, MotionSection, PlannerInfo, Provenance, Result,
-    ResultsFile,
-};
+use crate::results::{Category, Error, PlannerInfo, Provenance, Result, ResultsFile};
 use crate::stock::{stock_hand, stock_object};
 
 /// Scene name of the Clean the Table queries in the results (scene 3).
@@ -507,189 +501,6 @@ impl Suite {
         file.motion = motion;
         Ok(file)
     }
-
-    fn report(&self, category: Category, done: &AtomicUsize, add: usize, total: usize, label: String) {
-        let done = done.fetch_add(add, Ordering::Relaxed) + add;
-        if let Some(f) = &self.progress {
-            f(&Progress { category, done, total, label });
-        }
-    }
-
-    fn run_grasp(&self) -> Result<GraspSection> {
-        let jobs: Vec<(&Hand, &ObjectModel)> =
-            self.grasp.hands.iter().flat_map(|h| self.grasp.objects.iter().map(move |o| (h, o))).collect();
-        let planners: Vec<&dyn GraspPlanner> = self.grasp_planners.iter().map(|p| &*p.planner).collect();
-        let done = AtomicUsize::new(0);
-        let run_job = |&(hand, object): &(&Hand, &ObjectModel)| -> Result<Vec<GraspRecord>> {
-            let config =
-                GraspBenchmarkConfig { hands: vec![hand.clone()], objects: vec![object.clone()], ..self.grasp.clone() };
-            let results = run_grasp_benchmark_with(&config, &planners)?;
-            self.report(Category::Grasp, &done, 1, jobs.len(), format!("{}/{}", hand.name(), object.name));
-            Ok(results.cells.into_iter().map(|cell| GraspRecord { seed: config.seed, cell }).collect())
-        };
-        let per_job: Vec<Result<Vec<GraspRecord>>> =
-            if self.jobs == 1 { jobs.iter().map(run_job).collect() } else { jobs.par_iter().map(run_job).collect() };
-        let mut cells = Vec::new();
-        for r in per_job {
-            cells.extend(r?);
-        }
-        Ok(GraspSection {
-            seed: self.grasp.seed,
-            hands: self.grasp.hands.iter().map(|h| h.name().to_string()).collect(),
-            objects: self.grasp.objects.iter().map(|o| o.name.clone()).collect(),
-            max_candidates: self.grasp.max_candidates,
-            planners: self.grasp_planners.iter().map(|p| p.info.clone()).collect(),
-            cells,
-        })
-    }
-
-    fn run_motion(&self) -> MotionSection {
-        let admits =
-            |p: &MotionEntry, scene: &str| p.scenes.as_ref().is_none_or(|names| names.iter().any(|n| n == scene));
-        let pairs: Vec<(&BenchmarkScene, &MotionEntry)> = self
-            .motion_scenes
-            .iter()
-            .flat_map(|s| self.motion_planners.iter().filter(|p| admits(p, &s.name)).map(move |p| (s, p)))
-            .collect();
-        let table_planners: Vec<&MotionEntry> = if self.episodes == 0 {
-            Vec::new()
-        } else {
-            self.motion_planners.iter().filter(|p| admits(p, CLEAN_THE_TABLE_SCENE)).collect()
-        };
-        // Shared environments: all runs of a pair in one job (the planner's setup, e.g. a PRM
-        // roadmap, is reused across them). Otherwise setup runs per run anyway, so every run
-        // is its own job with a fresh planner. Each Clean the Table episode is a job of its
-        // own. The split never depends on `jobs`.
-        let runs = self.motion.runs;
-        let mut jobs: Vec<MotionJob> = pairs
-            .iter()
-            .enumerate()
-            .flat_map(|(k, (scene, _))| {
-                let ranges: Vec<std::ops::Range<usize>> = if scene.shared_environment {
-                    std::iter::once(0..runs).collect()
-                } else {
-                    (0..runs).map(|r| r..r + 1).collect()
-                };
-                ranges.into_iter().filter(|r| !r.is_empty()).map(move |r| MotionJob::Scene(k, r))
-            })
-            .collect();
-        for p in 0..table_planners.len() {
-            jobs.extend((0..self.episodes).map(|e| MotionJob::Episode(p, e)));
-        }
-        let total = pairs.len() * runs + table_planners.len() * self.episodes * 2 * TABLE_OBJECTS.len();
-        let done = AtomicUsize::new(0);
-        let run_job = |job: &MotionJob| -> (Vec<RunRecord>, Option<EpisodeRecord>) {
-            match job {
-                MotionJob::Scene(k, range) => {
-                    let (scene, entry) = pairs[*k];
-                    let options = BenchmarkOptions {
-                        runs: range.len(),
-                        seed: self.motion.seed.wrapping_add(range.start as u64),
-                        ..self.motion.clone()
-                    };
-                    let mut planners = vec![(entry.factory)(&scene.name)];
-                    let mut report = run_benchmark(&mut planners, std::slice::from_ref(scene), &options);
-                    for r in &mut report.runs {
-                        r.run += range.start;
-                    }
-                    let label = format!("{} on {}", entry.info.name, scene.name);
-                    self.report(Category::Motion, &done, range.len(), total, label);
-                    (report.runs, None)
-                }
-                MotionJob::Episode(p, index) => {
-                    let entry = table_planners[*p];
-                    let (runs, episode) = self.run_episode(entry, *index);
-                    let label = format!("{} on {CLEAN_THE_TABLE_SCENE} #{index}", entry.info.name);
-                    self.report(Category::Motion, &done, 2 * TABLE_OBJECTS.len(), total, label);
-                    (runs, Some(episode))
-                }
-            }
-        };
-        let per_job: Vec<(Vec<RunRecord>, Option<EpisodeRecord>)> =
-            if self.jobs == 1 { jobs.iter().map(run_job).collect() } else { jobs.par_iter().map(run_job).collect() };
-        let mut all: Vec<RunRecord> = Vec::new();
-        let mut episodes = Vec::new();
-        for (runs, episode) in per_job {
-            all.extend(runs);
-            episodes.extend(episode);
-        }
-        let summaries: Vec<Summary> = pairs
-            .iter()
-            .map(|(scene, entry)| (scene.name.as_str(), *entry))
-            .chain(table_planners.iter().map(|entry| (CLEAN_THE_TABLE_SCENE, *entry)))
-            .map(|(scene, entry)| {
-                let records: Vec<&RunRecord> =
-                    all.iter().filter(|r| r.scene == scene && r.planner == entry.info.name).collect();
-                Summary::from_records(&entry.info.name, scene, &records)
-            })
-            .collect();
-        MotionSection {
-            options: self.motion.clone(),
-            scenes: self.scene_names(),
-            planners: self.motion_planners.iter().map(|p| p.info.clone()).collect(),
-            runs: all,
-            summaries,
-            episodes,
-        }
-    }
-
-    /// Runs Clean the Table episode `index` (seed `motion seed + index`) with a fresh planner.
-    /// Its queries become runs `index · 2 · objects + query` of [`CLEAN_THE_TABLE_SCENE`].
-    fn run_episode(&self, entry: &MotionEntry, index: usize) -> (Vec<RunRecord>, EpisodeRecord) {
-        let seed = self.motion.seed.wrapping_add(index as u64);
-        let queries = 2 * TABLE_OBJECTS.len();
-        let mut planner = (entry.factory)(CLEAN_THE_TABLE_SCENE);
-        let options = CleanTheTableOptions {
-            objects: TABLE_OBJECTS.len(),
-            seed,
-            benchmark: BenchmarkOptions { runs: 1, seed, ..self.motion.clone() },
-        };
-        let mut episode = EpisodeRecord {
-            planner: entry.info.name.clone(),
-            index,
-            seed,
-            objects: TABLE_OBJECTS.iter().map(|o| o.to_string()).collect(),
-            totals: EpisodeTotals { all_valid: false, ..EpisodeTotals::empty() },
-            error: None,
-        };
-        match clean_the_table(planner.as_mut(), &options) {
-            Ok(report) => {
-                let mut runs = Vec::with_capacity(queries);
-                for object in report.objects {
-                    runs.push(object.grasp);
-                    runs.extend(object.place);
-                }
-                for r in &mut runs {
-                    r.scene = CLEAN_THE_TABLE_SCENE.to_string();
-                    r.planner = entry.info.name.clone();
-                    r.run += index * queries;
-                }
-                episode.totals = report.totals;
-                (runs, episode)
-            }
-            Err(e) => {
-                let mut run = RunRecord::unfinished(
-                    &entry.info.name,
-                    CLEAN_THE_TABLE_SCENE,
-                    index * queries,
-                    seed,
-                    RunStatus::Error,
-                    0.0,
-                );
-                run.message = Some(e.to_string());
-                episode.error = Some(e.to_string());
-                (vec![run], episode)
-            }
-        }
-    }
-}
-
-/// A unit of parallel motion work.
-enum MotionJob {
-    /// Runs `range` of scene × planner pair `k`.
-    Scene(usize, std::ops::Range<usize>),
-    /// Clean the Table episode `index` of Clean the Table planner `p`.
-    Episode(usize, usize),
 }
 
 /// A small motion scene for tests and examples: the planar two-link arm (0.5 m and 0.4 m

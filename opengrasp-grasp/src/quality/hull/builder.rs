@@ -1,236 +1,15 @@
-//! Convex hulls in any dimension: quickhull with simplicial facets on joggled input.
-//!
-//! The grasp metrics need the convex hull of a few dozen primitive wrenches in 6-D (the
-//! Ferrari-Canny epsilon is the distance from the origin to the nearest facet, the volume
-//! metric the hull's volume). [`ConvexHull::new`] builds it for points of any dimension
-//! `d ≥ 2` (Qhull itself is not used: its C build needs libclang):
-//!
-//! 1. **Degeneracy check.** An initial simplex is chosen greedily on the original points
-//!    (Gram-Schmidt with pivoting on the point farthest from the affine span so far). If the
-//!    points span fewer than `d` affine dimensions the call returns
-//!    [`GraspError::DegenerateHull`] with the rank found; exact duplicate points are dropped.
-//! 2. **Joggle.** As Qhull's `QJ` option does, every coordinate is perturbed by a
-//!    deterministic (seeded) uniform random amount of at most `joggle × scale`, where `scale`
-//!    is the largest absolute coordinate. Joggled points are in general position, so every
-//!    facet is a simplex and no merging of coplanar facets is needed. Results are exact for
-//!    the joggled points and move by `O(joggle × scale)` from those of the original points.
-//! 3. **Quickhull.** Beneath-beyond insertion of the farthest outside point of a facet: the
-//!    visible facets are found by a breadth-first search, replaced by a cone of new facets
-//!    over their horizon. A new facet's normal is the `O(d)` combination of the normals of
-//!    the two facets meeting at its horizon ridge (checked, with a Householder QR of the
-//!    edge vectors as fallback); planes are oriented away from a fixed interior point (the
-//!    centroid of the initial simplex). Ridges are paired through an order-independent
-//!    hash of their vertices.
-//! 4. **Verification.** Every ridge must be shared by exactly two facets and every pair of
-//!    neighbouring facets must be locally convex (to `1e-7 × scale`). On failure the build
-//!    is retried with a joggle ten times larger, up to [`HullOptions::max_attempts`] times,
-//!    then [`GraspError::HullFailed`] is returned.
-//!
-//! Cost: the 32 primitive wrenches of a 4-contact, 8-edge grasp give about 1,200 facets in
-//! 6-D, built in about half a millisecond on one core.
+//! The quickhull construction behind [`ConvexHull`](super::ConvexHull): initial simplex,
+//! facet visibility and horizon, exact plane and determinant helpers.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use crate::error::{GraspError, Result};
 
-/// Options of [`ConvexHull::new`].
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct HullOptions {
-    /// Joggle amplitude of the first attempt, relative to the largest absolute coordinate.
-    /// Each retry multiplies it by 10. Default: `1e-9`.
-    pub joggle: f64,
-    /// Maximum number of (joggled) attempts before giving up. Default: `5`.
-    pub max_attempts: usize,
-    /// Seed of the joggle's random generator (attempt `a` uses `seed + a`). Default: `0`.
-    pub seed: u64,
-}
-
-impl Default for HullOptions {
-    fn default() -> Self {
-        Self { joggle: 1e-9, max_attempts: 5, seed: 0 }
-    }
-}
-
-/// One simplicial facet of a [`ConvexHull`], borrowed from it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Facet<'a> {
-    /// Indices (into the input points) of the facet's `d` vertices.
-    pub vertices: &'a [usize],
-    /// Outward unit normal `n`.
-    pub normal: &'a [f64],
-    /// Offset `b` of the supporting hyperplane: hull points satisfy `n · x ≤ b`.
-    pub offset: f64,
-}
-
-/// The convex hull of a full-dimensional point set in `d` dimensions, as simplicial facets.
-#[derive(Debug, Clone)]
-pub struct ConvexHull {
-    dim: usize,
-    facet_vertices: Vec<usize>,
-    normals: Vec<f64>,
-    offsets: Vec<f64>,
-    vertices: Vec<usize>,
-    interior: Vec<f64>,
-    volume: f64,
-    joggle: f64,
-    attempts: usize,
-}
-
-impl ConvexHull {
-    /// Builds the convex hull of `points`, each a slice of `dim` coordinates.
-    ///
-    /// # Errors
-    /// [`GraspError::InvalidParameter`] if `dim < 2` or the options are out of range,
-    /// [`GraspError::DimensionMismatch`] if a point does not have `dim` coordinates,
-    /// [`GraspError::NonFinite`] for NaN/infinite coordinates,
-    /// [`GraspError::DegenerateHull`] if the points span fewer than `dim` affine dimensions
-    /// (including fewer than `dim + 1` distinct points), and [`GraspError::HullFailed`] if no
-    /// consistent hull was found within `options.max_attempts` joggled attempts.
-    pub fn new<P: AsRef<[f64]>>(dim: usize, points: &[P], options: &HullOptions) -> Result<Self> {
-        if dim < 2 {
-            return Err(GraspError::InvalidParameter { name: "dim", reason: format!("{dim} is below 2") });
-        }
-        if !(options.joggle.is_finite() && options.joggle > 0.0 && options.joggle < 1e-2) {
-            return Err(GraspError::InvalidParameter {
-                name: "joggle",
-                reason: format!("{} is not in (0, 1e-2)", options.joggle),
-            });
-        }
-        if options.max_attempts == 0 {
-            return Err(GraspError::InvalidParameter { name: "max_attempts", reason: "must be at least 1".into() });
-        }
-        let mut flat = Vec::with_capacity(points.len() * dim);
-        for (index, p) in points.iter().enumerate() {
-            let p = p.as_ref();
-            if p.len() != dim {
-                return Err(GraspError::DimensionMismatch { index, expected: dim, actual: p.len() });
-            }
-            flat.extend_from_slice(p);
-        }
-        crate::error::ensure_finite("hull points", flat.iter().copied())?;
-        Self::from_flat(dim, &flat, options)
-    }
-
-    /// Builds the hull from `n × dim` coordinates stored point after point (no copying of
-    /// the caller's points into nested vectors). Same errors as [`ConvexHull::new`].
-    ///
-    /// # Errors
-    /// See [`ConvexHull::new`].
-    pub fn from_flat(dim: usize, coords: &[f64], options: &HullOptions) -> Result<Self> {
-        if dim < 2 || coords.len() % dim != 0 {
-            return Err(GraspError::InvalidParameter {
-                name: "coords",
-                reason: format!("{} coordinates do not form points of dimension {dim} (dim ≥ 2)", coords.len()),
-            });
-        }
-        crate::error::ensure_finite("hull points", coords.iter().copied())?;
-        let n = coords.len() / dim;
-        let scale = coords.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-        // Drop exact duplicates (they would become near-coincident points after joggling).
-        let mut unique: Vec<usize> = Vec::with_capacity(n);
-        for i in 0..n {
-            let p = &coords[i * dim..(i + 1) * dim];
-            if !unique.iter().any(|&j| &coords[j * dim..(j + 1) * dim] == p) {
-                unique.push(i);
-            }
-        }
-        let simplex = initial_simplex(dim, coords, &unique, scale)?;
-
-        let mut joggle = options.joggle;
-        let mut last_reason = String::new();
-        let mut jog = vec![0.0; coords.len()];
-        for attempt in 0..options.max_attempts {
-            let mut rng = ChaCha8Rng::seed_from_u64(options.seed.wrapping_add(attempt as u64));
-            let amp = joggle * scale;
-            for (j, &c) in jog.iter_mut().zip(coords) {
-                *j = c + amp * (2.0 * rng.random::<f64>() - 1.0);
-            }
-            match Builder::run(dim, &jog, &unique, &simplex, scale) {
-                Ok(b) => return Ok(b.finish(coords, amp, attempt + 1)),
-                Err(reason) => last_reason = reason,
-            }
-            joggle *= 10.0;
-        }
-        Err(GraspError::HullFailed { dimension: dim, attempts: options.max_attempts, reason: last_reason })
-    }
-
-    /// Dimension of the space.
-    pub fn dim(&self) -> usize {
-        self.dim
-    }
-
-    /// Number of (simplicial) facets.
-    pub fn num_facets(&self) -> usize {
-        self.offsets.len()
-    }
-
-    /// The facets.
-    pub fn facets(&self) -> impl ExactSizeIterator<Item = Facet<'_>> + '_ {
-        let d = self.dim;
-        (0..self.offsets.len()).map(move |f| Facet {
-            vertices: &self.facet_vertices[f * d..(f + 1) * d],
-            normal: &self.normals[f * d..(f + 1) * d],
-            offset: self.offsets[f],
-        })
-    }
-
-    /// Sorted indices of the input points that are vertices of the hull.
-    pub fn vertices(&self) -> &[usize] {
-        &self.vertices
-    }
-
-    /// A point strictly inside the hull (centroid of the initial simplex).
-    pub fn interior_point(&self) -> &[f64] {
-        &self.interior
-    }
-
-    /// The hull's `d`-dimensional volume: sum over facets of the simplices they span with
-    /// [`interior_point`](Self::interior_point), computed on the original coordinates.
-    pub fn volume(&self) -> f64 {
-        self.volume
-    }
-
-    /// Absolute joggle amplitude used by the successful attempt.
-    pub fn joggle(&self) -> f64 {
-        self.joggle
-    }
-
-    /// Number of attempts needed (1 unless the first joggled build failed).
-    pub fn attempts(&self) -> usize {
-        self.attempts
-    }
-
-    /// Signed depth of `point`: `min over facets of (b − n · x)`.
-    ///
-    /// For a point inside the hull this is the radius of the largest ball centred at the
-    /// point that fits in the hull; it is negative outside (then `−depth` is the largest
-    /// violation of a facet inequality, a lower bound of the distance to the hull).
-    /// Returns NaN if `point` does not have [`dim`](Self::dim) coordinates.
-    pub fn depth(&self, point: &[f64]) -> f64 {
-        if point.len() != self.dim {
-            return f64::NAN;
-        }
-        self.facets().map(|f| f.offset - dot(f.normal, point)).fold(f64::INFINITY, f64::min)
-    }
-
-    /// Whether `point` satisfies every facet inequality within `tolerance`.
-    pub fn contains(&self, point: &[f64], tolerance: f64) -> bool {
-        self.depth(point) >= -tolerance
-    }
-}
-
-#[inline]
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    // Fixed-size fast path for the grasp wrench space (6-D).
-    if let (Ok(a), Ok(b)) = (<&[f64; 6]>::try_from(a), <&[f64; 6]>::try_from(b)) {
-        return (a[0] * b[0] + a[1] * b[1]) + (a[2] * b[2] + a[3] * b[3]) + (a[4] * b[4] + a[5] * b[5]);
-    }
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
-}
+use super::{dot, ConvexHull};
 
 /// Greedy (pivoted Gram-Schmidt) choice of `d + 1` affinely independent points.
-fn initial_simplex(d: usize, pts: &[f64], unique: &[usize], scale: f64) -> Result<Vec<usize>> {
+pub(super) fn initial_simplex(d: usize, pts: &[f64], unique: &[usize], scale: f64) -> Result<Vec<usize>> {
     let degenerate = |rank| GraspError::DegenerateHull { dimension: d, affine_rank: rank };
     if unique.is_empty() || scale == 0.0 {
         return Err(degenerate(0));
@@ -271,7 +50,7 @@ fn initial_simplex(d: usize, pts: &[f64], unique: &[usize], scale: f64) -> Resul
 }
 
 /// Quickhull state on the joggled points (facets stored flat, `d` entries per facet).
-struct Builder<'a> {
+pub(super) struct Builder<'a> {
     d: usize,
     pts: &'a [f64],
     center: Vec<f64>,
@@ -289,7 +68,7 @@ struct Builder<'a> {
 }
 
 impl<'a> Builder<'a> {
-    fn run(
+    pub(super) fn run(
         d: usize,
         pts: &'a [f64],
         unique: &[usize],
@@ -467,7 +246,7 @@ impl<'a> Builder<'a> {
 
     /// Signed distance of point `i` above facet `f`.
     #[inline]
-    fn dist(&self, f: usize, i: usize) -> f64 {
+    pub(super) fn dist(&self, f: usize, i: usize) -> f64 {
         let d = self.d;
         dot(&self.normals[f * d..(f + 1) * d], &self.pts[i * d..(i + 1) * d]) - self.offsets[f]
     }
@@ -482,7 +261,7 @@ impl<'a> Builder<'a> {
     /// the combination is well conditioned and two vertices lie on the new plane to
     /// `1e-11 · scale`; otherwise (and for the initial
     /// simplex) the plane comes from a Householder QR of the edges.
-    fn add_facet(
+    pub(super) fn add_facet(
         &mut self,
         vs: &[usize],
         ns: &[usize],
@@ -537,7 +316,7 @@ impl<'a> Builder<'a> {
     }
 
     /// Ridge pairing and local convexity of every pair of neighbouring facets.
-    fn verify(&self) -> std::result::Result<(), String> {
+    pub(super) fn verify(&self) -> std::result::Result<(), String> {
         let d = self.d;
         let tol = 1e-7 * self.scale;
         for f in (0..self.alive.len()).filter(|&f| self.alive[f]) {
@@ -559,7 +338,7 @@ impl<'a> Builder<'a> {
         Ok(())
     }
 
-    fn finish(self, original: &[f64], joggle: f64, attempts: usize) -> ConvexHull {
+    pub(super) fn finish(self, original: &[f64], joggle: f64, attempts: usize) -> ConvexHull {
         let d = self.d;
         let alive: Vec<usize> = (0..self.alive.len()).filter(|&f| self.alive[f]).collect();
         let mut facet_vertices = Vec::with_capacity(alive.len() * d);
@@ -601,7 +380,7 @@ impl<'a> Builder<'a> {
 /// oriented so that `center` lies below it. `None` if the points are (numerically)
 /// affinely dependent or the plane passes through `center`.
 #[allow(clippy::too_many_arguments)]
-fn plane(
+pub(super) fn plane(
     d: usize,
     pts: &[f64],
     vs: &[usize],
@@ -668,7 +447,7 @@ fn plane(
 }
 
 /// Determinant of the row-major `d × d` matrix `m` (destroyed), by LU with partial pivoting.
-fn determinant(d: usize, m: &mut [f64]) -> f64 {
+pub(super) fn determinant(d: usize, m: &mut [f64]) -> f64 {
     let m = &mut m[..d * d];
     let mut det = 1.0;
     for k in 0..d {
@@ -703,32 +482,4 @@ fn determinant(d: usize, m: &mut [f64]) -> f64 {
         }
     }
     det
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn cube(d: usize) -> Vec<Vec<f64>> {
-        (0..1usize << d).map(|m| (0..d).map(|k| if m >> k & 1 == 1 { 1.0 } else { -1.0 }).collect()).collect()
-    }
-
-    #[test]
-    fn square_and_cube_volume_and_facets() {
-        let h = ConvexHull::new(2, &cube(2), &HullOptions::default()).unwrap();
-        assert_eq!(h.num_facets(), 4);
-        assert!((h.volume() - 4.0).abs() < 1e-6);
-        let h = ConvexHull::new(3, &cube(3), &HullOptions::default()).unwrap();
-        // 6 square faces, each split into 2 triangles.
-        assert_eq!(h.num_facets(), 12);
-        assert_eq!(h.vertices().len(), 8);
-        assert!((h.volume() - 8.0).abs() < 1e-6);
-        assert!((h.depth(&[0.0, 0.0, 0.0]) - 1.0).abs() < 1e-6);
-    }
-
-    #[test]
-    fn determinant_of_known_matrix() {
-        let mut m = vec![2.0, 0.0, 1.0, 1.0, 3.0, 2.0, 1.0, 1.0, 2.0];
-        assert!((determinant(3, &mut m) - 6.0).abs() < 1e-12);
-    }
 }

@@ -1,0 +1,179 @@
+//! The physics hold check: does the closed hand keep the object under gravity?
+
+use nalgebra::{Isometry3, Vector3};
+use opengrasp_core::hand::Hand;
+use opengrasp_core::kinematics::forward_kinematics;
+use opengrasp_core::physics::{PhysicsEngine, PhysicsOptions, RapierBackend};
+use opengrasp_core::scene::Scene;
+use serde::{Deserialize, Serialize};
+
+use crate::error::{GraspError, Result};
+use opengrasp_core::object::ObjectModel;
+
+use super::{EvaluationStatus, GraspEvaluation};
+
+/// Options of the physics check ([`physics_check`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PhysicsCheckOptions {
+    /// Directions of gravity tried one after the other, each in a fresh simulation (object
+    /// frame). Default: the six axis directions ±x, ±y, ±z.
+    pub directions: Vec<Vector3<f64>>,
+    /// Magnitude of gravity (m/s²). Default: 9.81.
+    pub gravity: f64,
+    /// Time (s) the fingers squeeze without gravity before it is switched on. Default: 0.2.
+    pub settle: f64,
+    /// Simulated time per direction with gravity on (s). Default: 0.5.
+    pub duration: f64,
+    /// The closing joints (those with a non-zero closing velocity) are commanded this far (rad
+    /// or m) beyond the closed configuration, so the motors keep pressing the fingers against
+    /// the object (with the simulator's joint stiffness, capped at the joints' effort limits).
+    /// Default: 0.05.
+    pub squeeze: f64,
+    /// The object counts as held if gravity moves it less than this (m): the distance between
+    /// its pose after `settle + duration` with gravity and its pose after the same time in a
+    /// gravity-free control run (which cancels any squeeze-induced creep of the simulator).
+    /// Default: 0.02.
+    pub max_translation: f64,
+    /// ... and turns it less than this (rad), measured the same way. Default: 0.35 (20°).
+    pub max_rotation: f64,
+    /// Simulator settings (gravity is overridden; the hand's link friction is replaced by the
+    /// object's friction coefficient, so the contacts have the μ the evaluator assumed).
+    /// Default: [`PhysicsOptions::default`] with `contact_frequency` 30 Hz (rapier's own
+    /// default): with stiffer contacts an object squeezed hard creeps through the grip by
+    /// centimetres per second (a solver artefact, measured with rapier 0.30).
+    pub physics: PhysicsOptions,
+}
+
+impl Default for PhysicsCheckOptions {
+    fn default() -> Self {
+        Self {
+            directions: vec![Vector3::x(), -Vector3::x(), Vector3::y(), -Vector3::y(), Vector3::z(), -Vector3::z()],
+            gravity: 9.81,
+            settle: 0.2,
+            duration: 0.5,
+            squeeze: 0.05,
+            max_translation: 0.02,
+            max_rotation: 0.35,
+            physics: PhysicsOptions { contact_frequency: 30.0, ..PhysicsOptions::default() },
+        }
+    }
+}
+
+/// Result of a physics check: how far the object moved under each gravity direction.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PhysicsOutcome {
+    /// Object displacement (m) per gravity direction.
+    pub translations: Vec<f64>,
+    /// Object rotation (rad) per gravity direction.
+    pub rotations: Vec<f64>,
+    /// Whether the object stayed in the hand, per gravity direction.
+    pub held_per_direction: Vec<bool>,
+}
+
+impl PhysicsOutcome {
+    /// True if the object stayed in the hand for every gravity direction.
+    pub fn held(&self) -> bool {
+        !self.held_per_direction.is_empty() && self.held_per_direction.iter().all(|&h| h)
+    }
+}
+
+/// Checks a closed grasp in the rapier simulator: see [`physics_check_with`].
+///
+/// # Errors
+/// As [`physics_check_with`].
+pub fn physics_check(
+    hand: &Hand,
+    object: &ObjectModel,
+    evaluation: &GraspEvaluation,
+    options: &PhysicsCheckOptions,
+) -> Result<PhysicsOutcome> {
+    physics_check_with::<RapierBackend>(hand, object, evaluation, options)
+}
+
+/// Checks a closed grasp on physics backend `E`.
+///
+/// The hand is fixed at the evaluated pose in its closed configuration; the closing joints
+/// (non-zero closing velocity; spread and other joints hold their value) are commanded
+/// `squeeze` beyond it, so the motors press the fingers against the object up to the joints'
+/// effort limits. The fingers squeeze for `settle` seconds without gravity, then gravity is
+/// switched on for `duration`. The object (free, with its mass, inertia and friction, which
+/// also replaces the links' friction) is held for a direction if its final pose differs from
+/// the final pose of a gravity-free control run of the same length by at most
+/// `max_translation` and `max_rotation`: the difference is what gravity did, while slow
+/// squeeze-induced creep of the simulator, present in both runs, cancels out.
+///
+/// # Errors
+/// [`GraspError::InvalidParameter`] for bad options or an evaluation without a closed hand;
+/// [`GraspError::Core`] from the simulator.
+pub fn physics_check_with<E: PhysicsEngine>(
+    hand: &Hand,
+    object: &ObjectModel,
+    evaluation: &GraspEvaluation,
+    options: &PhysicsCheckOptions,
+) -> Result<PhysicsOutcome> {
+    if evaluation.status != EvaluationStatus::Closed {
+        return Err(GraspError::InvalidParameter { name: "evaluation", reason: "the hand did not close".into() });
+    }
+    for (name, v) in [
+        ("gravity", options.gravity),
+        ("duration", options.duration),
+        ("max_translation", options.max_translation),
+        ("max_rotation", options.max_rotation),
+    ] {
+        crate::planners::check_positive(name, v)?;
+    }
+    for (name, v) in [("settle", options.settle), ("squeeze", options.squeeze)] {
+        if !(v.is_finite() && v >= 0.0) {
+            return Err(GraspError::InvalidParameter { name, reason: format!("must be finite and >= 0, got {v}") });
+        }
+    }
+    let robot = hand.robot();
+    let q = &evaluation.q;
+    let fk = forward_kinematics(robot, q)?;
+    let root_from_palm = fk.as_slice()[hand.palm().0] * hand.palm_frame();
+    let base = evaluation.hand_pose * root_from_palm.inverse();
+    let mut target = q.clone();
+    for (d, &v) in hand.closing_velocity().iter().enumerate() {
+        // `0.0_f64.signum()` is 1: joints that do not close must hold their value.
+        if v != 0.0 {
+            target[d] += options.squeeze * v.signum();
+        }
+    }
+    robot.clamp_configuration(&mut target);
+    let mut scene = Scene::new("physics check");
+    let oid = scene.add_object(object.to_scene_object(Isometry3::identity()))?;
+    let rid = scene.add_robot("hand", hand.robot_arc(), base)?;
+    scene.set_robot_configuration(rid, q)?;
+    let physics =
+        PhysicsOptions { gravity: Vector3::zeros(), link_friction: object.friction, ..options.physics.clone() };
+    let dt = physics.timestep;
+    let (settle_steps, steps) = ((options.settle / dt).ceil() as usize, (options.duration / dt).ceil() as usize);
+    // Settle the squeezing fingers without gravity, then run with `gravity` (zero: control).
+    let run = |gravity: Vector3<f64>| -> Result<Isometry3<f64>> {
+        let mut engine = E::from_scene(&scene, &physics)?;
+        engine.set_joint_position_targets(rid, &target)?;
+        engine.step_n(settle_steps, dt)?;
+        engine.set_gravity(gravity)?;
+        engine.step_n(steps, dt)?;
+        Ok(engine.object_pose(oid)?)
+    };
+    let mut gravities = Vec::with_capacity(options.directions.len());
+    for dir in &options.directions {
+        let n = dir.norm();
+        if !(n.is_finite() && n > 0.0) {
+            return Err(GraspError::InvalidParameter { name: "directions", reason: format!("bad direction {dir:?}") });
+        }
+        gravities.push(dir * (options.gravity / n));
+    }
+    let control = run(Vector3::zeros())?;
+    let mut out = PhysicsOutcome { translations: Vec::new(), rotations: Vec::new(), held_per_direction: Vec::new() };
+    for g in gravities {
+        let pose = run(g)?;
+        let translation = (pose.translation.vector - control.translation.vector).norm();
+        let rotation = pose.rotation.angle_to(&control.rotation);
+        out.translations.push(translation);
+        out.rotations.push(rotation);
+        out.held_per_direction.push(translation <= options.max_translation && rotation <= options.max_rotation);
+    }
+    Ok(out)
+}

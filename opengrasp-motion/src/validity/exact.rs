@@ -1,0 +1,103 @@
+//! Exact checks on core's parry-based collision world.
+
+use std::sync::Arc;
+
+use opengrasp_core::collision::CollisionWorld;
+use opengrasp_core::model::{JointGroup, Robot};
+use opengrasp_core::scene::RobotId;
+
+use crate::error::Result;
+
+use super::{MotionBound, StateValidityChecker};
+
+/// A checker over core's [`CollisionWorld`]: one robot of the world moving the joints of
+/// `group`, the other joints held at `q_full`.
+///
+/// Validity is [`CollisionWorld::in_collision_unchecked`] (environment, objects, other robots,
+/// self-collision with the allowed-collision matrix, attached objects); per-link distances are
+/// [`CollisionWorld::link_distances`] (environment only) and the clearance is their minimum over
+/// the links the group moves (links it cannot move, such as a mobile base resting 2 cm above
+/// the floor, would otherwise fix the clearance of every path), with a [`MotionBound`] from the
+/// links' collision geometry. Because the link distances exclude self-distance, the continuous
+/// validator checks self-collision by a fine discrete check
+/// ([`CcdOptions::self_collision_step`](crate::validate::CcdOptions::self_collision_step)).
+/// Objects attached to a link are not in the motion bound: pass your own bound with
+/// [`CollisionChecker::with_bound`] when carrying objects.
+#[derive(Clone, Debug)]
+pub struct CollisionChecker {
+    world: Arc<CollisionWorld>,
+    robot_id: RobotId,
+    robot: Arc<Robot>,
+    group: JointGroup,
+    q_full: Vec<f64>,
+    bound: MotionBound,
+}
+
+impl CollisionChecker {
+    /// A checker for robot `robot_id` of `world` (whose model is `robot`).
+    ///
+    /// # Errors
+    /// [`MotionError::Core`](crate::MotionError::Core) if `q_full` is not a valid configuration of `robot` or `robot_id`
+    /// is not a robot of the world.
+    pub fn new(
+        world: Arc<CollisionWorld>,
+        robot_id: RobotId,
+        robot: Arc<Robot>,
+        group: JointGroup,
+        q_full: Vec<f64>,
+    ) -> Result<Self> {
+        world.in_collision(robot_id, &q_full)?;
+        let bound = MotionBound::from_robot(&robot, &group)?;
+        Ok(Self { world, robot_id, robot, group, q_full, bound })
+    }
+
+    /// Replaces the motion bound (e.g. one that includes carried objects).
+    pub fn with_bound(mut self, bound: MotionBound) -> Self {
+        self.bound = bound;
+        self
+    }
+
+    /// The collision world.
+    pub fn world(&self) -> &CollisionWorld {
+        &self.world
+    }
+
+    fn full(&self, q: &[f64]) -> Vec<f64> {
+        let mut full = self.q_full.clone();
+        for (&d, &v) in self.group.dofs().iter().zip(q) {
+            full[d] = v;
+        }
+        full
+    }
+}
+
+impl StateValidityChecker for CollisionChecker {
+    fn dim(&self) -> usize {
+        self.group.len()
+    }
+    fn is_valid(&self, q: &[f64]) -> bool {
+        !self.world.in_collision_unchecked(self.robot_id, &self.full(q))
+    }
+    fn clearance(&self, q: &[f64]) -> Option<f64> {
+        let mut d = Vec::new();
+        if !self.link_distances(q, &mut d) {
+            return None;
+        }
+        Some((0..d.len()).filter(|&i| self.bound.is_moving(i)).map(|i| d[i]).fold(f64::INFINITY, f64::min))
+    }
+    fn link_distances(&self, q: &[f64], out: &mut Vec<f64>) -> bool {
+        let mut full = self.full(q);
+        self.robot.clamp_configuration(&mut full);
+        match self.world.link_distances(self.robot_id, &full) {
+            Ok(all) => {
+                out.clear();
+                out.extend(self.bound.links().iter().map(|l| all.get(l.0).copied().unwrap_or(f64::INFINITY)));
+                true
+            }
+            Err(_) => false,
+        }
+    }
+    fn motion_bound(&self) -> Option<&MotionBound> {
+        Some(&self.bound)
+    }
+}

@@ -1,0 +1,163 @@
+//! State validity checking: the one interface every planner, validator and metric uses.
+//!
+//! A [`StateValidityChecker`] answers "is this group configuration collision-free?" and,
+//! optionally, how far the robot is from obstacles (for clearance metrics) and how far each
+//! link is from everything it could hit (for certified continuous collision checking with a
+//! [`MotionBound`]).
+//!
+//! Implementations shipped with the crate:
+//! - [`CollisionChecker`]: exact checks on core's parry-based [`CollisionWorld`](opengrasp_core::collision::CollisionWorld) (environment,
+//!   objects, self-collision, attached objects).
+//! - [`SphereWorld`]: the links of a core [`Robot`](opengrasp_core::model::Robot) covered by spheres, among oriented boxes.
+//!   Closed-form distances, fast, conservative; used by the stand-in benchmark scenes and tests.
+//! - [`CountingChecker`]: wraps any checker and counts the calls (the benchmark uses it to
+//!   report collision checks per run).
+
+mod bound;
+mod exact;
+mod spheres;
+
+use std::cell::Cell;
+
+pub use bound::MotionBound;
+pub use exact::CollisionChecker;
+pub use spheres::{ObstacleBox, SphereWorld};
+
+/// Decides whether group configurations are valid (collision-free).
+///
+/// Configurations are *group* vectors: one value per joint of the planning group, in group
+/// order. Only [`StateValidityChecker::dim`] and [`StateValidityChecker::is_valid`] are
+/// required; the distance methods enable clearance metrics and continuous checking.
+pub trait StateValidityChecker {
+    /// Dimension of the group configurations this checker accepts.
+    fn dim(&self) -> usize;
+
+    /// True if `q` (group values) is collision-free. `q` has [`StateValidityChecker::dim`]
+    /// finite entries; implementations may panic otherwise.
+    fn is_valid(&self, q: &[f64]) -> bool;
+
+    /// Distance from the robot (at least the parts the group moves) to the obstacles at `q`
+    /// (negative or zero in collision), or `None` if the checker cannot compute distances
+    /// (default).
+    fn clearance(&self, q: &[f64]) -> Option<f64> {
+        let _ = q;
+        None
+    }
+
+    /// Writes into `out` one lower bound per entry of [`MotionBound::links`] on the distance
+    /// from that link to everything it could hit, and returns true; returns false (default)
+    /// if unsupported.
+    ///
+    /// If [`StateValidityChecker::ccd_covers_self_collision`] is true, each entry must also be
+    /// at most half the distance to every link it may collide with, so that two links moving
+    /// towards each other are certified by the same per-link bound.
+    fn link_distances(&self, q: &[f64], out: &mut Vec<f64>) -> bool {
+        let _ = (q, out);
+        false
+    }
+
+    /// The per-link motion bound matching [`StateValidityChecker::link_distances`], or `None`
+    /// (default) if continuous checking is unsupported.
+    fn motion_bound(&self) -> Option<&MotionBound> {
+        None
+    }
+
+    /// True if [`StateValidityChecker::link_distances`] accounts for self-collision (see
+    /// there). When false (default) the continuous validator adds a strict discrete check for
+    /// self-collisions.
+    fn ccd_covers_self_collision(&self) -> bool {
+        false
+    }
+}
+
+/// Forwards every method of [`StateValidityChecker`] through a pointer type.
+macro_rules! forward_checker {
+    ($($pointer:ty),*) => {$(
+        impl<T: StateValidityChecker + ?Sized> StateValidityChecker for $pointer {
+            fn dim(&self) -> usize {
+                (**self).dim()
+            }
+            fn is_valid(&self, q: &[f64]) -> bool {
+                (**self).is_valid(q)
+            }
+            fn clearance(&self, q: &[f64]) -> Option<f64> {
+                (**self).clearance(q)
+            }
+            fn link_distances(&self, q: &[f64], out: &mut Vec<f64>) -> bool {
+                (**self).link_distances(q, out)
+            }
+            fn motion_bound(&self) -> Option<&MotionBound> {
+                (**self).motion_bound()
+            }
+            fn ccd_covers_self_collision(&self) -> bool {
+                (**self).ccd_covers_self_collision()
+            }
+        }
+    )*};
+}
+
+forward_checker!(&T, Box<T>);
+
+/// A checker that accepts every configuration of the given dimension (free space).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct AlwaysValid(pub usize);
+
+impl StateValidityChecker for AlwaysValid {
+    fn dim(&self) -> usize {
+        self.0
+    }
+    fn is_valid(&self, _q: &[f64]) -> bool {
+        true
+    }
+}
+
+/// Wraps a checker and counts validity checks and distance queries.
+pub struct CountingChecker<'a> {
+    inner: &'a dyn StateValidityChecker,
+    checks: Cell<u64>,
+    distance_queries: Cell<u64>,
+}
+
+impl<'a> CountingChecker<'a> {
+    /// A counter around `inner`, starting at zero.
+    pub fn new(inner: &'a dyn StateValidityChecker) -> Self {
+        Self { inner, checks: Cell::new(0), distance_queries: Cell::new(0) }
+    }
+    /// Number of [`StateValidityChecker::is_valid`] calls so far.
+    pub fn checks(&self) -> u64 {
+        self.checks.get()
+    }
+    /// Number of clearance and link-distance queries so far.
+    pub fn distance_queries(&self) -> u64 {
+        self.distance_queries.get()
+    }
+    /// Resets both counters to zero.
+    pub fn reset(&self) {
+        self.checks.set(0);
+        self.distance_queries.set(0);
+    }
+}
+
+impl StateValidityChecker for CountingChecker<'_> {
+    fn dim(&self) -> usize {
+        self.inner.dim()
+    }
+    fn is_valid(&self, q: &[f64]) -> bool {
+        self.checks.set(self.checks.get() + 1);
+        self.inner.is_valid(q)
+    }
+    fn clearance(&self, q: &[f64]) -> Option<f64> {
+        self.distance_queries.set(self.distance_queries.get() + 1);
+        self.inner.clearance(q)
+    }
+    fn link_distances(&self, q: &[f64], out: &mut Vec<f64>) -> bool {
+        self.distance_queries.set(self.distance_queries.get() + 1);
+        self.inner.link_distances(q, out)
+    }
+    fn motion_bound(&self) -> Option<&MotionBound> {
+        self.inner.motion_bound()
+    }
+    fn ccd_covers_self_collision(&self) -> bool {
+        self.inner.ccd_covers_self_collision()
+    }
+}

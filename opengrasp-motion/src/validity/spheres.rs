@@ -1,0 +1,282 @@
+//! A sphere-covered robot among oriented boxes: closed-form, conservative checks.
+
+use std::sync::Arc;
+
+use nalgebra::{Isometry3, Point3, Vector3};
+use opengrasp_core::kinematics::forward_kinematics_into;
+use opengrasp_core::model::{Geometry, JointGroup, LinkId, Robot};
+
+use crate::error::Result;
+
+use super::{MotionBound, StateValidityChecker};
+
+/// An oriented box obstacle of a [`SphereWorld`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct ObstacleBox {
+    /// Name, for reports.
+    pub name: String,
+    /// Pose of the box centre in the world frame.
+    pub pose: Isometry3<f64>,
+    /// Half extents along the box axes (m).
+    pub half_extents: Vector3<f64>,
+}
+
+impl ObstacleBox {
+    /// A box from its name, world pose and full size.
+    pub fn new(name: impl Into<String>, pose: Isometry3<f64>, size: Vector3<f64>) -> Self {
+        Self { name: name.into(), pose, half_extents: size * 0.5 }
+    }
+
+    /// Signed distance from a world point to the box surface (negative inside).
+    pub fn signed_distance(&self, p: &Point3<f64>) -> f64 {
+        let l = self.pose.inverse_transform_point(p);
+        let h = &self.half_extents;
+        let d = Vector3::new(l.x.abs() - h.x, l.y.abs() - h.y, l.z.abs() - h.z);
+        let outside = Vector3::new(d.x.max(0.0), d.y.max(0.0), d.z.max(0.0)).norm();
+        outside + d.x.max(d.y).max(d.z).min(0.0)
+    }
+}
+
+/// A robot whose links are covered by spheres, among oriented boxes: closed-form, conservative
+/// distances for tests and stand-in scenes.
+///
+/// Each collision shape is covered by spheres (a capsule or cylinder of radius `r` by spheres
+/// along its axis at spacing `s ≤ r`, radius `√(r² + s²/4)`; a box by a grid of spheres; a mesh
+/// by its bounding box), so the covered robot contains the real one and every distance is a
+/// lower bound on the true distance. Self-collision is checked between sphere sets of link
+/// pairs that are neither allowed by [`Robot::is_collision_allowed`] nor already overlapping at
+/// the reference configuration (like an SRDF's "default" disabled pairs).
+///
+/// The clearance is the smallest distance from a link the group moves to a box. For continuous
+/// checking, [`StateValidityChecker::link_distances`] reports per link the
+/// minimum of its distance to the boxes and half its distance to every checked link, so the
+/// bound of [`MotionBound`] certifies self-collision too.
+#[derive(Clone, Debug)]
+pub struct SphereWorld {
+    robot: Arc<Robot>,
+    group: JointGroup,
+    q_full: Vec<f64>,
+    base_pose: Isometry3<f64>,
+    /// (index into `links`, centre in link frame, radius)
+    spheres: Vec<(usize, Point3<f64>, f64)>,
+    /// Range of `spheres` per entry of `links`.
+    ranges: Vec<(usize, usize)>,
+    links: Vec<LinkId>,
+    pairs: Vec<(usize, usize)>,
+    boxes: Vec<ObstacleBox>,
+    bound: MotionBound,
+}
+
+fn cover_shape(geometry: &Geometry, origin: &Isometry3<f64>, out: &mut Vec<(Point3<f64>, f64)>) {
+    match geometry {
+        Geometry::Sphere { radius } => out.push((origin * Point3::origin(), *radius)),
+        Geometry::Capsule { radius, length } | Geometry::Cylinder { radius, length } => {
+            let n = (length / radius).ceil().max(1.0) as usize;
+            let s = length / n as f64;
+            let rr = (radius * radius + s * s * 0.25).sqrt();
+            for k in 0..=n {
+                let z = -length * 0.5 + s * k as f64;
+                out.push((origin * Point3::new(0.0, 0.0, z), rr));
+            }
+        }
+        Geometry::Box { half_extents } => cover_box(half_extents, origin, out),
+        Geometry::Mesh(mesh) => {
+            let (lo, hi) = mesh.aabb();
+            let centre = nalgebra::center(&lo, &hi);
+            let o = origin * Isometry3::translation(centre.x, centre.y, centre.z);
+            cover_box(&((hi - lo) * 0.5), &o, out);
+        }
+    }
+}
+
+fn cover_box(h: &Vector3<f64>, origin: &Isometry3<f64>, out: &mut Vec<(Point3<f64>, f64)>) {
+    let cell = h.min().max(1e-3) * 2.0;
+    let n = h.map(|e| ((2.0 * e / cell).ceil().max(1.0)) as usize);
+    let size = Vector3::new(2.0 * h.x / n.x as f64, 2.0 * h.y / n.y as f64, 2.0 * h.z / n.z as f64);
+    let r = size.norm() * 0.5;
+    for i in 0..n.x {
+        for j in 0..n.y {
+            for k in 0..n.z {
+                let c = Point3::new(
+                    -h.x + size.x * (i as f64 + 0.5),
+                    -h.y + size.y * (j as f64 + 0.5),
+                    -h.z + size.z * (k as f64 + 0.5),
+                );
+                out.push((origin * c, r));
+            }
+        }
+    }
+}
+
+impl SphereWorld {
+    /// A world for `robot` (root link at `base_pose` in the world) moving the joints of
+    /// `group`, with the other joints held at `q_full`, among `boxes`.
+    ///
+    /// # Errors
+    /// [`MotionError::Core`](crate::MotionError::Core) if `q_full` is not a valid configuration of `robot`.
+    pub fn new(
+        robot: Arc<Robot>,
+        group: JointGroup,
+        q_full: Vec<f64>,
+        base_pose: Isometry3<f64>,
+        boxes: Vec<ObstacleBox>,
+    ) -> Result<Self> {
+        robot.validate_configuration(&q_full)?;
+        let mut links = Vec::new();
+        let mut spheres = Vec::new();
+        let mut ranges = Vec::new();
+        let mut points = Vec::new();
+        let mut buf = Vec::new();
+        for (i, link) in robot.links().iter().enumerate() {
+            if link.collisions.is_empty() {
+                continue;
+            }
+            buf.clear();
+            for shape in &link.collisions {
+                cover_shape(&shape.geometry, &shape.origin, &mut buf);
+            }
+            let k = links.len();
+            let start = spheres.len();
+            let mut pts = Vec::new();
+            for &(c, r) in &buf {
+                spheres.push((k, c, r));
+                // The sphere's bounding-box corners contain it.
+                for s in 0..8 {
+                    let sign = |b: usize| if s & b == 0 { -r } else { r };
+                    pts.push(c + Vector3::new(sign(1), sign(2), sign(4)));
+                }
+            }
+            ranges.push((start, spheres.len()));
+            links.push(LinkId(i));
+            points.push(pts);
+        }
+        let bound = MotionBound::new(&robot, &group, &links, &points)?;
+        let mut world =
+            Self { robot, group, q_full, base_pose, spheres, ranges, links, pairs: Vec::new(), boxes, bound };
+        let reference = world.q_full.clone();
+        let centres = world.sphere_centres(&reference);
+        let n = world.links.len();
+        for a in 0..n {
+            for b in a + 1..n {
+                if world.robot.is_collision_allowed(world.links[a], world.links[b]) {
+                    continue;
+                }
+                if world.pair_distance(&centres, a, b) > 0.0 {
+                    world.pairs.push((a, b));
+                }
+            }
+        }
+        Ok(world)
+    }
+
+    /// The robot.
+    pub fn robot(&self) -> &Robot {
+        &self.robot
+    }
+    /// The planning group.
+    pub fn group(&self) -> &JointGroup {
+        &self.group
+    }
+    /// The obstacles.
+    pub fn boxes(&self) -> &[ObstacleBox] {
+        &self.boxes
+    }
+    /// Number of covering spheres.
+    pub fn sphere_count(&self) -> usize {
+        self.spheres.len()
+    }
+    /// Link pairs checked for self-collision.
+    pub fn self_collision_pairs(&self) -> Vec<(LinkId, LinkId)> {
+        self.pairs.iter().map(|&(a, b)| (self.links[a], self.links[b])).collect()
+    }
+    /// The full configuration for group values `q` (other joints as given at construction).
+    pub fn full_configuration(&self, q: &[f64]) -> Vec<f64> {
+        let mut full = self.q_full.clone();
+        for (&d, &v) in self.group.dofs().iter().zip(q) {
+            full[d] = v;
+        }
+        full
+    }
+
+    fn sphere_centres(&self, q_full: &[f64]) -> Vec<Point3<f64>> {
+        let mut poses = Vec::with_capacity(self.robot.links().len());
+        forward_kinematics_into(&self.robot, q_full, &mut poses);
+        let world: Vec<Isometry3<f64>> = self.links.iter().map(|l| self.base_pose * poses[l.0]).collect();
+        self.spheres.iter().map(|(k, c, _)| world[*k] * c).collect()
+    }
+
+    fn centres_for(&self, q: &[f64]) -> Vec<Point3<f64>> {
+        let full = self.full_configuration(q);
+        self.sphere_centres(&full)
+    }
+
+    fn pair_distance(&self, centres: &[Point3<f64>], a: usize, b: usize) -> f64 {
+        let (ra, rb) = (self.ranges[a], self.ranges[b]);
+        let mut best = f64::INFINITY;
+        for i in ra.0..ra.1 {
+            for j in rb.0..rb.1 {
+                let d = (centres[i] - centres[j]).norm() - self.spheres[i].2 - self.spheres[j].2;
+                best = best.min(d);
+            }
+        }
+        best
+    }
+
+    fn link_obstacle_distance(&self, centres: &[Point3<f64>], k: usize) -> f64 {
+        let (s, e) = self.ranges[k];
+        let mut best = f64::INFINITY;
+        for (c, sphere) in centres[s..e].iter().zip(&self.spheres[s..e]) {
+            for b in &self.boxes {
+                best = best.min(b.signed_distance(c) - sphere.2);
+            }
+        }
+        best
+    }
+}
+
+impl StateValidityChecker for SphereWorld {
+    fn dim(&self) -> usize {
+        self.group.len()
+    }
+
+    fn is_valid(&self, q: &[f64]) -> bool {
+        let centres = self.centres_for(q);
+        for (i, c) in centres.iter().enumerate() {
+            let r = self.spheres[i].2;
+            if self.boxes.iter().any(|b| b.signed_distance(c) <= r) {
+                return false;
+            }
+        }
+        self.pairs.iter().all(|&(a, b)| self.pair_distance(&centres, a, b) > 0.0)
+    }
+
+    fn clearance(&self, q: &[f64]) -> Option<f64> {
+        let centres = self.centres_for(q);
+        Some(
+            (0..self.links.len())
+                .filter(|&k| self.bound.is_moving(k))
+                .map(|k| self.link_obstacle_distance(&centres, k))
+                .fold(f64::INFINITY, f64::min),
+        )
+    }
+
+    fn link_distances(&self, q: &[f64], out: &mut Vec<f64>) -> bool {
+        let centres = self.centres_for(q);
+        out.clear();
+        out.extend((0..self.links.len()).map(|k| self.link_obstacle_distance(&centres, k)));
+        for &(a, b) in &self.pairs {
+            let half = 0.5 * self.pair_distance(&centres, a, b);
+            out[a] = out[a].min(half);
+            out[b] = out[b].min(half);
+        }
+        true
+    }
+
+    fn motion_bound(&self) -> Option<&MotionBound> {
+        Some(&self.bound)
+    }
+
+    fn ccd_covers_self_collision(&self) -> bool {
+        true
+    }
+}
