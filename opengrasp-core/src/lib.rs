@@ -34,3 +34,22 @@ pub mod urdf;
 
 pub use error::{CoreError, Result};
 pub use nalgebra;
+
+/// A readable `'static` name for a type, the default name of planners: the last path segment
+/// of a plain type (`RrtConnect` for `opengrasp_motion::planners::RrtConnect`), and the full
+/// [`std::any::type_name`] of a generic one, whose arguments a single segment would cut
+/// (`my_lab::Timed<opengrasp_motion::planners::RrtConnect>`, not `RrtConnect>`).
+///
+/// ```
+/// struct Wrapper<T>(T);
+/// assert_eq!(opengrasp_core::short_type_name::<String>(), "String");
+/// assert!(opengrasp_core::short_type_name::<Wrapper<String>>().ends_with("Wrapper<alloc::string::String>"));
+/// ```
+pub fn short_type_name<T: ?Sized>() -> &'static str {
+    let full = std::any::type_name::<T>();
+    if full.contains(['<', '(', '[', '&', ' ']) {
+        full
+    } else {
+        full.rsplit("::").next().unwrap_or(full)
+    }
+}

@@ -241,11 +241,15 @@ pub struct Solution {
 ///
 /// `setup` builds what can be reused across queries in the same scene (roadmaps, caches) and is
 /// timed separately from `plan`.
-pub trait MotionPlanner: Send + Sync {
-    /// The planner's name in reports (default: the type name without its path).
+///
+/// Threading: planners keep state (trees, roadmaps, random streams), so `setup` and `plan` take
+/// `&mut self` and the harness gives every job its own instance from a factory; the trait only
+/// requires `Send`, so a planner may hold `Cell`s or other non-`Sync` state. (A grasp planner is
+/// a pure function of its request, takes `&self` and is shared, hence `Send + Sync`.)
+pub trait MotionPlanner: Send {
+    /// The planner's name in reports (default: [`opengrasp_core::short_type_name`]).
     fn name(&self) -> &str {
-        let full = std::any::type_name::<Self>();
-        full.rsplit("::").next().unwrap_or(full)
+        opengrasp_core::short_type_name::<Self>()
     }
 
     /// Prepares for queries in a scene (default: nothing).

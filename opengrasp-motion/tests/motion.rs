@@ -520,3 +520,51 @@ fn repair_replaces_a_segment_the_validators_reject() {
     assert_eq!(same, fixed);
     assert_eq!((stats.repaired, stats.unrepaired), (0, 0));
 }
+
+/// Default planner names: the type's last path segment, and the whole type for a generic
+/// wrapper (not a truncated `RrtConnect>`); a planner holding non-`Sync` state is a planner.
+#[test]
+fn default_planner_names_and_non_sync_planners() {
+    use std::cell::Cell;
+    struct Straight {
+        calls: Cell<usize>,
+    }
+    impl MotionPlanner for Straight {
+        fn plan(&mut self, problem: &PlanningProblem<'_>) -> opengrasp_motion::Result<Solution> {
+            self.calls.set(self.calls.get() + 1);
+            let Goal::Configuration(goal) = problem.goal else { unreachable!("configuration goals only") };
+            Ok(Solution { path: vec![problem.start.to_vec(), goal.clone()], iterations: 1 })
+        }
+    }
+    struct Timed<P>(P);
+    impl<P: MotionPlanner> MotionPlanner for Timed<P> {
+        fn plan(&mut self, problem: &PlanningProblem<'_>) -> opengrasp_motion::Result<Solution> {
+            self.0.plan(problem)
+        }
+    }
+    let straight = Straight { calls: Cell::new(0) };
+    assert_eq!(straight.name(), "Straight");
+    let timed = Timed(Straight { calls: Cell::new(0) });
+    assert!(
+        timed.name().ends_with("Timed<motion::default_planner_names_and_non_sync_planners::Straight>"),
+        "{}",
+        timed.name()
+    );
+    let mut boxed: Box<dyn MotionPlanner> = Box::new(timed);
+    let robot = Arc::new(samples::planar_arm(&[0.5, 0.4]).unwrap());
+    let group = JointGroup::all(&robot, "arm").unwrap();
+    let checker = opengrasp_motion::validity::AlwaysValid(2);
+    let goal = Goal::Configuration(vec![0.5, 0.5]);
+    let problem = PlanningProblem {
+        robot: &robot,
+        group: &group,
+        q_full: &[0.0, 0.0],
+        start: &[0.0, 0.0],
+        goal: &goal,
+        checker: &checker,
+        time_limit: Duration::from_secs(1),
+        seed: 0,
+        step: 0.02,
+    };
+    assert_eq!(boxed.plan(&problem).unwrap().path.len(), 2);
+}

@@ -102,10 +102,15 @@ pub struct GraspRequest<'a> {
 /// let planners: Vec<Box<dyn GraspPlanner>> = vec![Box::new(TopDown)];
 /// assert_eq!(planners[0].name(), "top-down");
 /// ```
+///
+/// Threading: a grasp planner is a pure function of its request (the seed is in it), so
+/// `plan` takes `&self` and one instance is shared by the harness's parallel jobs, hence
+/// `Send + Sync`. (Motion planners keep state, take `&mut self` and get one instance per job.)
 pub trait GraspPlanner: Send + Sync {
-    /// A short name for tables and result files; defaults to the type name.
+    /// A short name for tables and result files (default:
+    /// [`opengrasp_core::short_type_name`]).
     fn name(&self) -> &str {
-        std::any::type_name::<Self>()
+        opengrasp_core::short_type_name::<Self>()
     }
 
     /// Proposes candidate grasps for `request.hand` on `request.object`.

@@ -3,7 +3,7 @@
 //! the cost of one validity check.
 //!
 //! ```sh
-//! cargo bench --bench motion -- --warm-up-time 1 --measurement-time 3
+//! cargo bench -p opengrasp-bench --bench motion -- --warm-up-time 1 --measurement-time 3
 //! ```
 
 // `criterion_group!` generates an undocumented public function.
@@ -12,10 +12,10 @@
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use opengrasp::bench::scenes::{armar_standard_scene, standard_scene, CheckerKind};
-use opengrasp::motion::benchmark::BenchmarkScene;
-use opengrasp::motion::planners::RrtConnect;
-use opengrasp::motion::MotionPlanner;
+use opengrasp_bench::scenes::{armar_standard_scene, standard_scene, CheckerKind};
+use opengrasp_motion::benchmark::BenchmarkScene;
+use opengrasp_motion::planners::RrtConnect;
+use opengrasp_motion::MotionPlanner;
 
 fn bench_scene(c: &mut Criterion, id: &str, scene: BenchmarkScene) {
     let instance = (scene.generate)(0).expect("scene instance");

@@ -3,7 +3,7 @@
 //! non-convex detergent bottle, and candidate generation
 //! of the two reference planners. Inputs are deterministic (fixed candidates, seed 0).
 //!
-//! Run briefly with `cargo bench --bench grasp -- --warm-up-time 1 --measurement-time 3`.
+//! Run briefly with `cargo bench -p opengrasp-grasp --bench grasp -- --warm-up-time 1 --measurement-time 3`.
 
 use std::hint::black_box;
 

@@ -1,7 +1,7 @@
 //! Benchmarks of opengrasp-core: forward and inverse kinematics, collision checking and
 //! distance queries. Every input is seeded.
 //!
-//! Run briefly with `cargo bench --bench core -- --warm-up-time 1 --measurement-time 3`.
+//! Run briefly with `cargo bench -p opengrasp-core --bench core -- --warm-up-time 1 --measurement-time 3`.
 
 use std::f64::consts::PI;
 use std::hint::black_box;
