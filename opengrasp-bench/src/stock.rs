@@ -51,13 +51,7 @@ pub fn stock_object(name: &str) -> Result<ObjectModel> {
 /// [`Error::InvalidOption`] if it is neither a stock name nor an existing file; the loader's
 /// errors ([`Error::Core`]) for a file that is not a valid hand.
 pub fn resolve_hand(name_or_path: &str) -> Result<Hand> {
-    if HAND_NAMES.contains(&name_or_path) {
-        return stock_hand(name_or_path);
-    }
-    if !Path::new(name_or_path).is_file() {
-        return Err(unknown("hand", name_or_path, &HAND_NAMES));
-    }
-    Ok(Hand::load(name_or_path)?)
+    resolve(name_or_path, "hand", &HAND_NAMES, stock_hand, |p| Hand::load(p))
 }
 
 /// A stock object by name, else an object mesh or metadata file at that path.
@@ -65,13 +59,24 @@ pub fn resolve_hand(name_or_path: &str) -> Result<Hand> {
 /// # Errors
 /// As [`resolve_hand`].
 pub fn resolve_object(name_or_path: &str) -> Result<ObjectModel> {
-    if OBJECT_NAMES.contains(&name_or_path) {
-        return stock_object(name_or_path);
+    resolve(name_or_path, "object", &OBJECT_NAMES, stock_object, |p| ObjectModel::load(p))
+}
+
+fn resolve<T>(
+    name_or_path: &str,
+    what: &'static str,
+    stock_names: &[&str],
+    stock: impl Fn(&str) -> Result<T>,
+    load: impl Fn(&Path) -> opengrasp_core::Result<T>,
+) -> Result<T> {
+    if stock_names.contains(&name_or_path) {
+        return stock(name_or_path);
     }
-    if !Path::new(name_or_path).is_file() {
-        return Err(unknown("object", name_or_path, &OBJECT_NAMES));
+    let path = Path::new(name_or_path);
+    if !path.is_file() {
+        return Err(unknown(what, name_or_path, stock_names));
     }
-    Ok(ObjectModel::load(name_or_path)?)
+    Ok(load(path)?)
 }
 
 fn unknown(what: &'static str, name: &str, known: &[&str]) -> Error {

@@ -7,7 +7,7 @@ use std::sync::Arc;
 use opengrasp_core::kinematics::forward_kinematics;
 use opengrasp_core::mesh_io::{self, MeshFormat};
 use opengrasp_core::model::{samples, Geometry, JointKind, Link, Robot, RobotBuilder, Shape, TriangleMesh};
-use opengrasp_core::nalgebra::{Isometry3, Matrix3, Point3, Rotation3, Translation3, UnitQuaternion, Vector3};
+use opengrasp_core::nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion, Vector3};
 use opengrasp_core::urdf::{self, ExportOptions, FileResolver, InMemoryResolver, MeshResolver};
 use opengrasp_core::CoreError;
 
@@ -30,34 +30,9 @@ fn temp_dir(name: &str) -> PathBuf {
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
-
 /// Axis-aligned cube of side `s` centred at the origin, outward-facing (12 triangles).
 fn cube(s: f64) -> TriangleMesh {
-    let h = s / 2.0;
-    let v: Vec<Point3<f64>> = (0..8)
-        .map(|i| {
-            Point3::new(
-                if i & 1 == 0 { -h } else { h },
-                if i & 2 == 0 { -h } else { h },
-                if i & 4 == 0 { -h } else { h },
-            )
-        })
-        .collect();
-    let t = vec![
-        [0, 2, 3],
-        [0, 3, 1], // -z
-        [4, 5, 7],
-        [4, 7, 6], // +z
-        [0, 1, 5],
-        [0, 5, 4], // -y
-        [2, 6, 7],
-        [2, 7, 3], // +y
-        [0, 4, 6],
-        [0, 6, 2], // -x
-        [1, 3, 7],
-        [1, 7, 5], // +x
-    ];
-    TriangleMesh::new(v, t).unwrap()
+    TriangleMesh::cuboid(nalgebra::Vector3::repeat(s)).unwrap()
 }
 
 /// Same triangles in the same order with bit-identical corner coordinates.
