@@ -9,8 +9,10 @@
 //!                                [--quiet]
 //! opengrasp report results.json [--format table|markdown|csv] [--plots DIR] [--ompl DIR]
 //! opengrasp submit results.json --name NAME [--team TEAM] [--db highscore.sqlite]
+//! opengrasp submit results.json --name NAME --server http://HOST:PORT [--token TOKEN]
 //! opengrasp highscore [BENCHMARK] [--db highscore.sqlite]
-//! opengrasp serve [--db highscore.sqlite] [--addr 127.0.0.1:8080]
+//! opengrasp serve [--db highscore.sqlite] [--addr 127.0.0.1:8080] [--max-connections N]
+//! opengrasp token issue --team TEAM | list | revoke ID [--db highscore.sqlite]
 //! ```
 
 use std::collections::HashMap;
@@ -199,19 +201,25 @@ pub enum Command {
         #[arg(long)]
         ompl: Option<PathBuf>,
     },
-    /// Submit a results file to the local high-score database.
+    /// Submit a results file to a high-score server (`--server`) or a local database.
     Submit {
-        /// The results file.
+        /// The results file (`-` for standard input; at most 8 MiB).
         file: PathBuf,
         /// Participant name.
         #[arg(long)]
         name: String,
-        /// Group or lab.
+        /// Group or lab (with `--server`: the token's team).
         #[arg(long)]
         team: Option<String>,
-        /// The high-score database.
+        /// The local high-score database (without `--server`).
         #[arg(long, default_value = "highscore.sqlite")]
         db: PathBuf,
+        /// Upload to this high-score server (`http://host:port`).
+        #[arg(long)]
+        server: Option<String>,
+        /// The team's API token (default: `$OPENGRASP_TOKEN`).
+        #[arg(long, env = "OPENGRASP_TOKEN", hide_env_values = true)]
+        token: Option<String>,
     },
     /// Print the high-score rankings.
     Highscore {
@@ -229,8 +237,41 @@ pub enum Command {
         /// Address to listen on.
         #[arg(long, default_value = "127.0.0.1:8080")]
         addr: String,
+        /// Most connections served at once.
+        #[arg(long, default_value_t = 256)]
+        max_connections: usize,
+    },
+    /// Manage the API tokens of networked submission (administrator).
+    Token {
+        /// What to do.
+        #[command(subcommand)]
+        action: TokenAction,
+        /// The high-score database.
+        #[arg(long, default_value = "highscore.sqlite", global = true)]
+        db: PathBuf,
     },
 }
+
+/// `opengrasp token` actions.
+#[derive(Debug, Subcommand)]
+pub enum TokenAction {
+    /// Issue a token for a team (printed once; only its hash is stored).
+    Issue {
+        /// The team.
+        #[arg(long)]
+        team: String,
+    },
+    /// List the issued tokens (without secrets).
+    List,
+    /// Revoke a token by id.
+    Revoke {
+        /// The token id (see `list`).
+        id: i64,
+    },
+}
+
+/// Largest results file `opengrasp report` reads (files with every grasp candidate are big).
+pub const MAX_REPORT_BYTES: usize = 512 * 1024 * 1024;
 
 /// Builds the suite `opengrasp run` would run.
 ///
@@ -393,7 +434,11 @@ pub fn execute(cli: Cli) -> std::result::Result<(), CliError> {
             );
         }
         Command::Report { file, format, plots, ompl } => {
-            let results = ResultsFile::load(&file)?;
+            let text = crate::highscore::read::read_file_bounded(&file, MAX_REPORT_BYTES)?;
+            let results = ResultsFile::from_json(&text).map_err(|e| match e {
+                Error::Parse { source, .. } => Error::Parse { path: file.clone(), source },
+                other => other,
+            })?;
             print!("{}", report::render(&results, format.into()));
             if let Some(dir) = plots {
                 for p in crate::plots::plot_all(&results, &dir)? {
@@ -413,21 +458,61 @@ pub fn execute(cli: Cli) -> std::result::Result<(), CliError> {
                 }
             }
         }
-        Command::Submit { file, name, team, db } => {
+        Command::Submit { file, name, team, db, server, token } => {
             let mut who = crate::highscore::Submitter::new(name);
             if let Some(t) = team {
                 who = who.with_team(t);
             }
-            let id = crate::highscore::submit(&db, &file, who)?;
-            println!("stored {} as submission {} in {}", file.display(), id.0, db.display());
+            if let Some(url) = server {
+                let token = token.ok_or_else(|| crate::highscore::HighscoreError::Unauthorized {
+                    reason: "--server needs --token or $OPENGRASP_TOKEN".into(),
+                })?;
+                let text = crate::highscore::read::read_file_bounded(&file, crate::highscore::MAX_UPLOAD_BYTES)?;
+                let answer = crate::highscore::client::upload(&url, &token, &who, &text)?;
+                let verb = if answer.duplicate { "already stored" } else { "uploaded" };
+                println!(
+                    "{verb} {} as submission {} on {url} ({})",
+                    file.display(),
+                    answer.id,
+                    answer.benchmarks.join(", ")
+                );
+            } else {
+                let id = crate::highscore::submit(&db, &file, who)?;
+                println!("stored {} as submission {} in {}", file.display(), id.0, db.display());
+            }
         }
         Command::Highscore { benchmark, db } => {
             let rankings = crate::highscore::ranking(&db, benchmark.as_deref())?;
             print!("{}", crate::highscore::render_rankings(&rankings));
         }
-        Command::Serve { db, addr } => {
-            eprintln!("serving {} on http://{addr}/", db.display());
-            crate::highscore::serve(&db, &addr)?;
+        Command::Serve { db, addr, max_connections } => {
+            let options = crate::highscore::ServerOptions { max_connections, ..Default::default() };
+            let server = crate::highscore::spawn(&db, &addr, options)?;
+            eprintln!("serving {} on http://{}/", db.display(), server.addr());
+            server.wait()?;
+        }
+        Command::Token { action, db } => {
+            let store = crate::highscore::Store::open(&db)?;
+            match action {
+                TokenAction::Issue { team } => {
+                    let (id, token) = store.issue_token(&team)?;
+                    eprintln!("token {id} for team {team} (shown once; only its hash is stored):");
+                    println!("{token}");
+                }
+                TokenAction::List => {
+                    for t in store.tokens()? {
+                        let state = if t.revoked { "revoked" } else { "active" };
+                        println!("{}\t{}\t{}\t{state}", t.id, t.team, t.created_at);
+                    }
+                }
+                TokenAction::Revoke { id } => {
+                    if store.revoke_token(id)? {
+                        println!("revoked token {id}");
+                    } else {
+                        println!("no token {id}");
+                    }
+                }
+            }
         }
     }
     Ok(())

@@ -61,7 +61,39 @@ pub enum HighscoreError {
     },
     /// SQLite failed.
     #[error("database error: {0}")]
-    Database(#[from] rusqlite::Error),
+    Database(rusqlite::Error),
+    /// The database is locked by another writer for longer than the busy timeout; retry.
+    #[error("database busy: {0}")]
+    Busy(rusqlite::Error),
+    /// The database file does not exist (reads never create it).
+    #[error("no high-score database at `{path}`")]
+    NoDatabase {
+        /// The path asked for.
+        path: PathBuf,
+    },
+    /// An upload without a valid API token.
+    #[error("unauthorized: {reason}")]
+    Unauthorized {
+        /// Why the token was refused.
+        reason: String,
+    },
+    /// The request body was not received within the body timeout.
+    #[error("the request body was not received in time")]
+    BodyTimeout,
+    /// The same results were already submitted by someone else.
+    #[error("these results were already submitted as submission {id}")]
+    Duplicate {
+        /// The existing submission.
+        id: i64,
+    },
+    /// A remote high-score server answered with an error (the `submit --server` client).
+    #[error("server answered {status}: {message}")]
+    Remote {
+        /// HTTP status code.
+        status: u16,
+        /// The server's message.
+        message: String,
+    },
     /// The server could not bind or run.
     #[error("server error on {addr}: {source}")]
     Server {
@@ -89,7 +121,22 @@ impl HighscoreError {
             Self::UnknownSubmission { .. } => "unknown_submission",
             Self::SchemaVersion { .. } => "schema_version",
             Self::Database(_) => "database",
+            Self::Busy(_) => "busy",
+            Self::NoDatabase { .. } => "no_database",
+            Self::Unauthorized { .. } => "unauthorized",
+            Self::Duplicate { .. } => "duplicate",
+            Self::BodyTimeout => "body_timeout",
+            Self::Remote { .. } => "remote",
             Self::Server { .. } => "server",
+        }
+    }
+}
+
+impl From<rusqlite::Error> for HighscoreError {
+    fn from(e: rusqlite::Error) -> Self {
+        match e.sqlite_error_code() {
+            Some(rusqlite::ErrorCode::DatabaseBusy | rusqlite::ErrorCode::DatabaseLocked) => Self::Busy(e),
+            _ => Self::Database(e),
         }
     }
 }

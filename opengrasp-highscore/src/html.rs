@@ -122,3 +122,140 @@ pub fn ranking_page(ranking: &Ranking) -> String {
     body.push_str("</table>\n");
     page(&format!("{} high-score", b.id), &body)
 }
+
+/// A small error page (status and message, escaped).
+pub fn error_page(status: u16, message: &str) -> String {
+    page(
+        &format!("{status}"),
+        &format!("<p><a href=\"/\">all benchmarks</a></p>\n<h1>{status}</h1>\n<p>{}</p>\n", escape(message)),
+    )
+}
+
+/// The page of one submission: provenance, planners with their parameters, its entries with
+/// links to the benchmarks, and a link to the uploaded file.
+pub fn submission_page(s: &crate::SubmissionSummary) -> String {
+    let who = match &s.team {
+        Some(t) => format!("{} ({})", escape(&s.submitter), escape(t)),
+        None => escape(&s.submitter),
+    };
+    let mut body = format!(
+        "<p><a href=\"/\">all benchmarks</a></p>\n<h1>Submission {id}</h1>\n<dl class=\"kv\">\
+<dt>submitter</dt><dd>{who}</dd><dt>submitted</dt><dd>{at}</dd><dt>suite</dt><dd>{size}</dd>\
+<dt>version</dt><dd>{ver}</dd><dt>commit</dt><dd>{commit}</dd>\
+<dt>results file</dt><dd><a href=\"/api/submissions/{id}\">as uploaded (JSON)</a></dd></dl>\n",
+        id = s.id.0,
+        at = escape(&s.submitted_at),
+        size = escape(&s.suite_size),
+        ver = escape(&s.version),
+        commit = escape(s.git_commit.as_deref().unwrap_or("-")),
+    );
+    body.push_str("<h2>Entries</h2>\n<ul>\n");
+    for (bench, planner, m) in &s.entries {
+        let figures = match m {
+            EntryMetrics::Grasp { fc_percent, mean_epsilon, .. } => {
+                format!("FC {fc_percent:.1} %, mean ε {mean_epsilon:.4}")
+            }
+            EntryMetrics::Motion { success_rate, median_planning_time, .. } => format!(
+                "success {success_rate:.1} %, median {}",
+                median_planning_time.map_or_else(|| "-".to_string(), |t| format!("{t:.4} s"))
+            ),
+        };
+        let _ = writeln!(
+            body,
+            "<li><a href=\"/highscore/{b}\">{b}</a>: {p} — {figures}</li>",
+            b = escape(bench),
+            p = escape(planner)
+        );
+    }
+    body.push_str("</ul>\n<h2>Planners</h2>\n");
+    for (kind, name, params) in &s.planners {
+        let _ = writeln!(body, "<h3>{} ({})</h3>\n{}", escape(name), escape(kind), parameters_list(params));
+    }
+    page(&format!("submission {}", s.id.0), &body)
+}
+
+/// Planner parameters as a key/value list: Rust `Debug` text such as
+/// `RrtConnect { range: 0.1, goal_bias: 0.05 }` becomes `range = 0.1`, `goal_bias = 0.05`;
+/// anything else is shown as text.
+pub fn parameters_list(text: &str) -> String {
+    let pairs = parameter_pairs(text);
+    if pairs.is_empty() {
+        return format!("<p class=\"params\"><code>{}</code></p>", escape(text));
+    }
+    let mut out = String::from("<dl class=\"kv\">");
+    for (k, v) in pairs {
+        let _ = write!(out, "<dt>{}</dt><dd>{}</dd>", escape(&k), escape(&v));
+    }
+    out.push_str("</dl>");
+    out
+}
+
+/// `key: value` pairs at any depth of `Debug`-like text (`Name { a: 1, b: Inner { c: 2 } }`
+/// gives `a = 1`, `b.c = 2`); empty when the text has none.
+pub fn parameter_pairs(text: &str) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    let mut path: Vec<String> = Vec::new();
+    let mut key = String::new();
+    let mut value = String::new();
+    let mut in_value = false;
+    let mut depth_in_value = 0usize;
+    let mut pending_key: Option<String> = None;
+    for c in text.chars() {
+        if in_value {
+            match c {
+                '(' | '[' => {
+                    depth_in_value += 1;
+                    value.push(c);
+                }
+                ')' | ']' if depth_in_value > 0 => {
+                    depth_in_value -= 1;
+                    value.push(c);
+                }
+                '{' if depth_in_value == 0 => {
+                    // A nested struct: the key becomes a path prefix.
+                    path.push(pending_key.take().unwrap_or_default());
+                    in_value = false;
+                    value.clear();
+                }
+                ',' | '}' if depth_in_value == 0 => {
+                    if let Some(k) = pending_key.take() {
+                        out.push((join(&path, &k), value.trim().to_string()));
+                    }
+                    value.clear();
+                    in_value = false;
+                    if c == '}' {
+                        path.pop();
+                    }
+                }
+                _ => value.push(c),
+            }
+            continue;
+        }
+        match c {
+            ':' => {
+                pending_key = Some(key.trim().to_string());
+                key.clear();
+                in_value = true;
+            }
+            '{' => key.clear(),
+            '}' => {
+                path.pop();
+                key.clear();
+            }
+            ',' => key.clear(),
+            _ => key.push(c),
+        }
+    }
+    if let Some(k) = pending_key {
+        if !value.trim().is_empty() {
+            out.push((join(&path, &k), value.trim().to_string()));
+        }
+    }
+    out
+}
+
+fn join(path: &[String], key: &str) -> String {
+    let mut parts: Vec<&str> = path.iter().map(String::as_str).filter(|s| !s.is_empty()).collect();
+    parts.push(key);
+    parts.join(".")
+}

@@ -47,22 +47,34 @@
 //! # }
 //! ```
 
+pub mod client;
+mod db;
 mod error;
 pub mod html;
+pub mod plausible;
+mod rank;
+pub mod read;
 pub mod server;
 pub mod store;
+mod submission;
+mod summary;
+mod text;
+mod tokens;
 
 use std::cmp::Ordering;
-use std::fmt::Write as _;
 use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+pub use db::Db;
 pub use error::{HighscoreError, Result};
 pub use server::{serve, spawn, ServerHandle, ServerOptions};
-pub use store::{Counts, Store, SCHEMA_VERSION};
-
-use opengrasp_bench::results::ResultsFile;
+pub use store::{Counts, Inserted, Store, SCHEMA_VERSION};
+pub use submission::Submission;
+pub(crate) use submission::{check_name, check_text};
+pub use summary::SubmissionSummary;
+pub use text::render_rankings;
+pub use tokens::{sha256_hex, TokenInfo};
 
 /// Largest accepted upload or results file (8 MiB).
 pub const MAX_UPLOAD_BYTES: usize = 8 * 1024 * 1024;
@@ -273,129 +285,14 @@ pub struct Ranking {
     pub benchmark: BenchmarkInfo,
     /// The rules applied ([`GRASP_RULES`] or [`MOTION_RULES`]).
     pub rules: String,
+    /// Entries of the whole ranking (`entries` may be one page of them).
+    #[serde(default)]
+    pub total: usize,
+    /// Position of `entries[0]` in the whole ranking.
+    #[serde(default)]
+    pub offset: usize,
     /// Entries, best first.
     pub entries: Vec<RankedEntry>,
-}
-
-/// A validated upload, ready to be stored.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Submission {
-    /// Who submitted.
-    pub submitter: Submitter,
-    /// The results.
-    pub results: ResultsFile,
-    /// The results file as uploaded (stored verbatim).
-    pub raw: String,
-}
-
-impl Submission {
-    /// Parses and validates a results file (the checks of [`ResultsFile::validate`] plus the
-    /// board's limits: sizes, name lengths, at least one cell or run).
-    ///
-    /// # Errors
-    /// [`HighscoreError::TooLarge`], [`HighscoreError::InvalidJson`],
-    /// [`HighscoreError::InvalidField`].
-    pub fn from_json(text: &str, submitter: Submitter) -> Result<Self> {
-        if text.len() > MAX_UPLOAD_BYTES {
-            return Err(HighscoreError::TooLarge { size: text.len() as u64, limit: MAX_UPLOAD_BYTES as u64 });
-        }
-        submitter.validate()?;
-        let results = ResultsFile::from_json(text).map_err(from_results_error)?;
-        validate_limits(&results)?;
-        Ok(Self { submitter, results, raw: text.to_string() })
-    }
-}
-
-fn from_results_error(e: opengrasp_bench::results::Error) -> HighscoreError {
-    use opengrasp_bench::results::Error as E;
-    match e {
-        E::Parse { source, .. } => HighscoreError::InvalidJson { message: source.to_string() },
-        E::SchemaVersion { found, expected } => {
-            HighscoreError::field("schema_version", format!("version {found} is not supported (expected {expected})"))
-        }
-        E::Invalid { field, reason } => HighscoreError::InvalidField { field, reason },
-        E::Io { path, source } => HighscoreError::Io { path, source },
-        other => HighscoreError::field("results", other.to_string()),
-    }
-}
-
-pub(crate) fn check_text(field: &str, value: &str, max: usize) -> Result<()> {
-    let n = value.chars().count();
-    if n > max {
-        return Err(HighscoreError::field(field, format!("{n} characters exceed the limit of {max}")));
-    }
-    Ok(())
-}
-
-pub(crate) fn check_name(field: &str, value: &str) -> Result<()> {
-    if value.trim().is_empty() {
-        return Err(HighscoreError::field(field, "is empty"));
-    }
-    if value.chars().any(char::is_control) {
-        return Err(HighscoreError::field(field, "contains control characters"));
-    }
-    check_text(field, value, MAX_NAME)
-}
-
-fn validate_limits(r: &ResultsFile) -> Result<()> {
-    let p = &r.provenance;
-    for (field, v) in [
-        ("provenance.suite_version", &p.suite_version),
-        ("provenance.suite_size", &p.suite_size),
-        ("provenance.opengrasp_version", &p.opengrasp_version),
-    ] {
-        check_name(field, v)?;
-    }
-    for (field, v) in [("provenance.started_at", &p.started_at), ("provenance.finished_at", &p.finished_at)] {
-        check_text(field, v, MAX_NAME)?;
-    }
-    for (field, v) in [("provenance.git_commit", &p.git_commit), ("provenance.cpu_model", &p.cpu_model)] {
-        if let Some(v) = v {
-            check_text(field, v, MAX_NAME)?;
-        }
-    }
-    if p.suite_version != opengrasp_bench::results::SUITE_VERSION {
-        return Err(HighscoreError::field(
-            "provenance.suite_version",
-            format!("the board ranks suite {:?}, not {:?}", opengrasp_bench::results::SUITE_VERSION, p.suite_version),
-        ));
-    }
-    for (k, v) in &p.crate_versions {
-        check_name("provenance.crate_versions", k)?;
-        check_text("provenance.crate_versions", v, MAX_NAME)?;
-    }
-    let mut records = 0;
-    if let Some(g) = &r.grasp {
-        records += g.cells.len();
-        for (i, pl) in g.planners.iter().enumerate() {
-            check_name(&format!("grasp.planners[{i}].name"), &pl.name)?;
-            check_text(&format!("grasp.planners[{i}].parameters"), &pl.parameters, MAX_TEXT)?;
-        }
-        for (i, c) in g.cells.iter().enumerate() {
-            check_name(&format!("grasp.cells[{i}].hand"), &c.cell.hand)?;
-            check_name(&format!("grasp.cells[{i}].object"), &c.cell.object)?;
-        }
-    }
-    if let Some(m) = &r.motion {
-        records += m.runs.len();
-        for (i, pl) in m.planners.iter().enumerate() {
-            check_name(&format!("motion.planners[{i}].name"), &pl.name)?;
-            check_text(&format!("motion.planners[{i}].parameters"), &pl.parameters, MAX_TEXT)?;
-        }
-        for (i, run) in m.runs.iter().enumerate() {
-            check_name(&format!("motion.runs[{i}].scene"), &run.scene)?;
-            if let Some(msg) = &run.message {
-                check_text(&format!("motion.runs[{i}].message"), msg, MAX_TEXT)?;
-            }
-        }
-    }
-    if records == 0 {
-        return Err(HighscoreError::field("results", "no grasp cell and no motion run to rank"));
-    }
-    if records > MAX_RECORDS {
-        return Err(HighscoreError::field("results", format!("{records} records exceed the limit of {MAX_RECORDS}")));
-    }
-    Ok(())
 }
 
 /// Slug of a hand or scene name: lowercase ASCII letters and digits, every other run of
@@ -461,12 +358,7 @@ pub fn builtin_benchmarks() -> Vec<BenchmarkInfo> {
 /// [`HighscoreError::UnknownBenchmark`] for a hand or scene the board does not rank, and
 /// database errors. Nothing is stored unless everything succeeds.
 pub fn submit(db_path: &Path, results_file_path: &Path, submitter: impl Into<Submitter>) -> Result<SubmissionId> {
-    let io = |source| HighscoreError::Io { path: results_file_path.to_path_buf(), source };
-    let len = std::fs::metadata(results_file_path).map_err(io)?.len();
-    if len > MAX_UPLOAD_BYTES as u64 {
-        return Err(HighscoreError::TooLarge { size: len, limit: MAX_UPLOAD_BYTES as u64 });
-    }
-    let text = std::fs::read_to_string(results_file_path).map_err(io)?;
+    let text = read::read_file_bounded(results_file_path, MAX_UPLOAD_BYTES)?;
     submit_json(db_path, &text, submitter)
 }
 
@@ -479,24 +371,26 @@ pub fn submit_json(db_path: &Path, text: &str, submitter: impl Into<Submitter>) 
     Store::open(db_path)?.insert(&submission)
 }
 
-/// Rankings of one benchmark (`Some(id)`, one element) or of every benchmark (`None`).
+/// Rankings of one benchmark (`Some(id)`, one element) or of every benchmark (`None`). Reads
+/// never create or change the database.
 ///
 /// # Errors
+/// [`HighscoreError::NoDatabase`] if there is no database at `db_path`,
 /// [`HighscoreError::UnknownBenchmark`], database errors.
 pub fn ranking(db_path: &Path, benchmark: Option<&str>) -> Result<Vec<Ranking>> {
-    let store = Store::open(db_path)?;
+    let store = Store::open_read_only(db_path)?;
     match benchmark {
         Some(b) => Ok(vec![store.ranking(b)?]),
         None => store.rankings(),
     }
 }
 
-/// The benchmarks of the board.
+/// The benchmarks of the board (never creates the database).
 ///
 /// # Errors
-/// Database errors.
+/// [`HighscoreError::NoDatabase`], database errors.
 pub fn benchmarks(db_path: &Path) -> Result<Vec<BenchmarkInfo>> {
-    Store::open(db_path)?.benchmarks()
+    Store::open_read_only(db_path)?.benchmarks()
 }
 
 /// Adds a benchmark to the board (see [`Store::register_benchmark`]); returns its id.
@@ -505,80 +399,4 @@ pub fn benchmarks(db_path: &Path) -> Result<Vec<BenchmarkInfo>> {
 /// As [`Store::register_benchmark`].
 pub fn register_benchmark(db_path: &Path, kind: BenchmarkKind, target: &str, description: &str) -> Result<String> {
     Store::open(db_path)?.register_benchmark(kind, target, description)
-}
-
-fn fmt_f(v: f64, prec: usize) -> String {
-    format!("{v:.prec$}")
-}
-
-/// Text tables of rankings (one per benchmark, empty benchmarks say so), for the terminal.
-pub fn render_rankings(rankings: &[Ranking]) -> String {
-    let mut out = String::new();
-    for (i, r) in rankings.iter().enumerate() {
-        if i > 0 {
-            out.push('\n');
-        }
-        let _ = writeln!(out, "== {} ({})", r.benchmark.id, r.benchmark.target);
-        if r.entries.is_empty() {
-            let _ = writeln!(out, "   no submissions yet");
-            continue;
-        }
-        let metric_heads: [&str; 4] = match r.benchmark.kind {
-            BenchmarkKind::Grasp => ["FC %", "mean eps", "palm", "objects"],
-            BenchmarkKind::Motion => ["success %", "median t (s)", "valid pp %", "runs"],
-        };
-        let mut head = vec!["suite", "#", "planner", "submitter", "sub"];
-        head.extend(metric_heads);
-        head.push("date");
-        let rows: Vec<Vec<String>> = r
-            .entries
-            .iter()
-            .map(|e| {
-                let mut row = vec![
-                    e.suite_size.clone(),
-                    e.rank.to_string(),
-                    e.planner.clone(),
-                    who(e),
-                    e.submission.0.to_string(),
-                ];
-                row.extend(match &e.metrics {
-                    EntryMetrics::Grasp { fc_percent, mean_epsilon, palm_contact, objects, .. } => {
-                        [fmt_f(*fc_percent, 1), fmt_f(*mean_epsilon, 4), palm_contact.to_string(), objects.to_string()]
-                    }
-                    EntryMetrics::Motion { success_rate, median_planning_time, valid_processed, runs, .. } => [
-                        fmt_f(*success_rate, 1),
-                        median_planning_time.map_or_else(|| "-".to_string(), |t| fmt_f(t, 4)),
-                        fmt_f(*valid_processed, 1),
-                        runs.to_string(),
-                    ],
-                });
-                row.push(e.submitted_at.chars().take(10).collect());
-                row
-            })
-            .collect();
-        let mut widths: Vec<usize> = head.iter().map(|h| h.chars().count()).collect();
-        for row in &rows {
-            for (w, cell) in widths.iter_mut().zip(row) {
-                *w = (*w).max(cell.chars().count());
-            }
-        }
-        let line = |cells: &[String]| {
-            let parts: Vec<String> = cells.iter().zip(&widths).map(|(c, w)| format!("{c:<w$}")).collect();
-            parts.join("  ").trim_end().to_string()
-        };
-        let head: Vec<String> = head.iter().map(|h| h.to_string()).collect();
-        let _ = writeln!(out, "{}", line(&head));
-        let _ = writeln!(out, "{}", widths.iter().map(|w| "-".repeat(*w)).collect::<Vec<_>>().join("  "));
-        for row in &rows {
-            let _ = writeln!(out, "{}", line(row));
-        }
-    }
-    out
-}
-
-fn who(e: &RankedEntry) -> String {
-    match &e.team {
-        Some(t) => format!("{} ({t})", e.submitter),
-        None => e.submitter.clone(),
-    }
 }

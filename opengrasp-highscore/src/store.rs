@@ -18,22 +18,30 @@
 //!   planning_time, postprocessing_time, processed_discrete, processed_strict,
 //!   processed_continuous, processed_length, planned_strict)`: every motion run.
 //!
-//! Rankings are computed from the cell and run rows on each query, so changing the rules
-//! re-ranks every stored submission. Each submission is written in one transaction.
+//! - (v2) `submissions.content_hash`: SHA-256 of the canonical results (unique), so a retried
+//!   or repeated upload is one entry.
+//! - (v2) `entries(submission_id, benchmark_id, planner, metrics /*json EntryMetrics*/)`: the
+//!   ranked entries, computed from the cell and run rows when a submission is stored (and for
+//!   every stored submission when a v1 database is migrated), so a ranking is one query.
+//! - (v2) `tokens(id, team, hash, created_at, revoked)`: API tokens, SHA-256 hashed.
+//!
+//! Each submission is written in one transaction. The database runs in WAL mode with
+//! `synchronous = FULL`: readers never wait for the writer and an acknowledged submission
+//! survives a crash of the process or the machine.
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use rusqlite::{params, Connection, OptionalExtension, Transaction};
+use rusqlite::{params, Connection, OpenFlags, OptionalExtension, Transaction};
 
 use super::error::{HighscoreError, Result};
 use super::{
-    builtin_benchmarks, slug, BenchmarkInfo, BenchmarkKind, EntryMetrics, RankedEntry, Ranking, Submission,
-    SubmissionId, GRASP_RULES, MOTION_RULES,
+    builtin_benchmarks, rank, slug, BenchmarkInfo, BenchmarkKind, Ranking, Submission, SubmissionId, GRASP_RULES,
+    MOTION_RULES,
 };
 
 /// Version of the schema this build reads and writes.
-pub const SCHEMA_VERSION: i64 = 1;
+pub const SCHEMA_VERSION: i64 = 2;
 
 const SCHEMA_V1: &str = "
 CREATE TABLE benchmarks (
@@ -104,6 +112,28 @@ CREATE TABLE motion_runs (
 CREATE INDEX motion_runs_benchmark ON motion_runs(benchmark_id);
 ";
 
+const SCHEMA_V2: &str = "
+ALTER TABLE submissions ADD COLUMN content_hash TEXT;
+CREATE UNIQUE INDEX submissions_content_hash ON submissions(content_hash);
+CREATE INDEX submission_planners_submission ON submission_planners(submission_id);
+CREATE INDEX grasp_cells_submission ON grasp_cells(submission_id);
+CREATE INDEX motion_runs_submission ON motion_runs(submission_id);
+CREATE TABLE entries (
+    submission_id INTEGER NOT NULL REFERENCES submissions(id),
+    benchmark_id TEXT NOT NULL REFERENCES benchmarks(id),
+    planner TEXT NOT NULL,
+    metrics TEXT NOT NULL,
+    PRIMARY KEY (benchmark_id, submission_id, planner)
+);
+CREATE TABLE tokens (
+    id INTEGER PRIMARY KEY AUTOINCREMENT,
+    team TEXT NOT NULL,
+    hash TEXT NOT NULL UNIQUE,
+    created_at TEXT NOT NULL DEFAULT (strftime('%Y-%m-%dT%H:%M:%fZ', 'now')),
+    revoked INTEGER NOT NULL DEFAULT 0
+);
+";
+
 /// Row counts of the stored data (to check that a rejected upload left no trace).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Counts {
@@ -121,15 +151,49 @@ pub struct Store {
     conn: Connection,
 }
 
+/// Outcome of [`Store::insert_submission`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Inserted {
+    /// The stored submission (the earlier one for a retried upload).
+    pub id: SubmissionId,
+    /// True if these results were already stored by the same submitter (nothing written).
+    pub duplicate: bool,
+}
+
 impl Store {
-    /// Opens (creating if needed) the database at `path`, creates or checks the schema and
-    /// registers the built-in benchmarks.
+    /// Opens (creating if needed) the database at `path`, creates, migrates or checks the
+    /// schema, registers the built-in benchmarks and switches to WAL mode.
     ///
     /// # Errors
-    /// [`HighscoreError::Database`] if SQLite fails, [`HighscoreError::SchemaVersion`] if the
-    /// file was written by another schema version.
+    /// [`HighscoreError::Database`] if SQLite fails, [`HighscoreError::Busy`] if another
+    /// process holds the write lock too long, [`HighscoreError::SchemaVersion`] if the file
+    /// was written by a newer schema version.
     pub fn open(path: &Path) -> Result<Self> {
-        Self::init(Connection::open(path)?)
+        let conn = Connection::open(path)?;
+        conn.busy_timeout(std::time::Duration::from_secs(2))?;
+        // WAL: readers do not wait for the writer; FULL: a commit is on disk when acknowledged.
+        let _: String = conn.pragma_update_and_check(None, "journal_mode", "WAL", |r| r.get(0))?;
+        conn.pragma_update(None, "synchronous", "FULL")?;
+        Self::init(conn)
+    }
+
+    /// Opens an existing database for reading only (never creates or migrates it).
+    ///
+    /// # Errors
+    /// [`HighscoreError::NoDatabase`] if the file does not exist,
+    /// [`HighscoreError::SchemaVersion`] unless it has this build's schema, database errors.
+    pub fn open_read_only(path: &Path) -> Result<Self> {
+        if !path.exists() {
+            return Err(HighscoreError::NoDatabase { path: path.to_path_buf() });
+        }
+        let flags = OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX | OpenFlags::SQLITE_OPEN_URI;
+        let conn = Connection::open_with_flags(path, flags)?;
+        conn.busy_timeout(std::time::Duration::from_secs(1))?;
+        let version: i64 = conn.pragma_query_value(None, "user_version", |r| r.get(0))?;
+        if version != SCHEMA_VERSION {
+            return Err(HighscoreError::SchemaVersion { found: version, supported: SCHEMA_VERSION });
+        }
+        Ok(Self { conn })
     }
 
     /// An in-memory database (for tests and dry runs).
@@ -141,15 +205,15 @@ impl Store {
     }
 
     fn init(mut conn: Connection) -> Result<Self> {
-        conn.busy_timeout(std::time::Duration::from_secs(5))?;
         conn.pragma_update(None, "foreign_keys", true)?;
         let tx = conn.transaction_with_behavior(rusqlite::TransactionBehavior::Immediate)?;
         let version: i64 = tx.pragma_query_value(None, "user_version", |r| r.get(0))?;
         match version {
             0 => {
                 tx.execute_batch(SCHEMA_V1)?;
-                tx.pragma_update(None, "user_version", SCHEMA_VERSION)?;
+                tx.execute_batch(SCHEMA_V2)?;
             }
+            1 => tx.execute_batch(SCHEMA_V2)?,
             SCHEMA_VERSION => {}
             found => return Err(HighscoreError::SchemaVersion { found, supported: SCHEMA_VERSION }),
         }
@@ -159,8 +223,25 @@ impl Store {
                 params![b.id, b.kind.as_str(), b.target, b.description],
             )?;
         }
+        if version == 1 {
+            // v1 stored no entries: compute them for every stored submission.
+            let ids: Vec<i64> = tx
+                .prepare("SELECT id FROM submissions")?
+                .query_map([], |r| r.get(0))?
+                .collect::<rusqlite::Result<_>>()?;
+            for id in ids {
+                rank::store_entries(&tx, id)?;
+            }
+        }
+        if version != SCHEMA_VERSION {
+            tx.pragma_update(None, "user_version", SCHEMA_VERSION)?;
+        }
         tx.commit()?;
         Ok(Self { conn })
+    }
+
+    pub(crate) fn conn(&self) -> &Connection {
+        &self.conn
     }
 
     /// Adds a benchmark (`<kind>/<slug of target>`) to the board; returns its id. Registering
@@ -189,10 +270,9 @@ impl Store {
     /// # Errors
     /// [`HighscoreError::Database`] if SQLite fails.
     pub fn benchmarks(&self) -> Result<Vec<BenchmarkInfo>> {
-        let mut stmt = self.conn.prepare(
+        let mut stmt = self.conn.prepare_cached(
             "SELECT b.id, b.kind, b.target, b.description,
-                (SELECT COUNT(DISTINCT submission_id) FROM grasp_cells g WHERE g.benchmark_id = b.id)
-              + (SELECT COUNT(DISTINCT submission_id) FROM motion_runs m WHERE m.benchmark_id = b.id)
+                (SELECT COUNT(DISTINCT submission_id) FROM entries e WHERE e.benchmark_id = b.id)
              FROM benchmarks b ORDER BY b.id",
         )?;
         let rows = stmt.query_map([], |r| {
@@ -229,21 +309,59 @@ impl Store {
         Ok(Counts { submissions: n("submissions")?, grasp_cells: n("grasp_cells")?, motion_runs: n("motion_runs")? })
     }
 
+    /// The newest submission id (0 if none): changes whenever a submission is stored, by this
+    /// or any other process, so it versions cached rankings.
+    ///
+    /// # Errors
+    /// [`HighscoreError::Database`] if SQLite fails.
+    pub fn generation(&self) -> Result<i64> {
+        Ok(self.conn.prepare_cached("SELECT COALESCE(MAX(id), 0) FROM submissions")?.query_row([], |r| r.get(0))?)
+    }
+
+    /// Stores a validated submission in one transaction (all of it or nothing); a submission
+    /// whose results were already stored by the same submitter returns the earlier id.
+    ///
+    /// # Errors
+    /// As [`Store::insert_submission`].
+    pub fn insert(&mut self, submission: &Submission) -> Result<SubmissionId> {
+        Ok(self.insert_submission(submission)?.id)
+    }
+
     /// Stores a validated submission in one transaction (all of it or nothing).
     ///
     /// # Errors
+    /// [`HighscoreError::Duplicate`] if the same results were stored by another submitter,
     /// [`HighscoreError::UnknownBenchmark`] if a cell's hand or a run's scene is not a
-    /// benchmark of the board, [`HighscoreError::Database`] if SQLite fails.
-    pub fn insert(&mut self, submission: &Submission) -> Result<SubmissionId> {
-        let known: BTreeMap<String, BenchmarkKind> = self.benchmarks()?.into_iter().map(|b| (b.id, b.kind)).collect();
+    /// benchmark of the board, [`HighscoreError::Busy`] if another process holds the write
+    /// lock, [`HighscoreError::Database`] if SQLite fails.
+    pub fn insert_submission(&mut self, submission: &Submission) -> Result<Inserted> {
         let tx = self.conn.transaction_with_behavior(rusqlite::TransactionBehavior::Immediate)?;
+        let existing: Option<(i64, String, Option<String>)> = tx
+            .query_row(
+                "SELECT id, submitter, team FROM submissions WHERE content_hash = ?1",
+                [&submission.content_hash],
+                |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)),
+            )
+            .optional()?;
+        if let Some((id, name, team)) = existing {
+            return if name == submission.submitter.name && team == submission.submitter.team {
+                Ok(Inserted { id: SubmissionId(id), duplicate: true })
+            } else {
+                Err(HighscoreError::Duplicate { id })
+            };
+        }
+        let known: BTreeMap<String, BenchmarkKind> = {
+            let mut stmt = tx.prepare_cached("SELECT id, kind FROM benchmarks")?;
+            let rows = stmt.query_map([], |r| Ok((r.get::<_, String>(0)?, r.get::<_, String>(1)?)))?;
+            rows.filter_map(|r| r.ok()).filter_map(|(id, kind)| BenchmarkKind::parse(&kind).map(|k| (id, k))).collect()
+        };
         let r = &submission.results;
         let p = &r.provenance;
         let provenance = serde_json::to_string(p).unwrap_or_else(|_| "null".into());
         tx.execute(
             "INSERT INTO submissions (submitter, team, suite_version, suite_size, opengrasp_version, git_commit,
-                started_at, grasp_seed, motion_seed, provenance, results)
-             VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11)",
+                started_at, grasp_seed, motion_seed, provenance, results, content_hash)
+             VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12)",
             params![
                 submission.submitter.name,
                 submission.submitter.team,
@@ -256,6 +374,7 @@ impl Store {
                 r.motion.as_ref().map(|m| m.options.seed.to_string()),
                 provenance,
                 submission.raw,
+                submission.content_hash,
             ],
         )?;
         let id = tx.last_insert_rowid();
@@ -276,11 +395,12 @@ impl Store {
         if let Some(m) = &r.motion {
             insert_runs(&tx, id, &m.runs, &known)?;
         }
+        rank::store_entries(&tx, id)?;
         tx.commit()?;
-        Ok(SubmissionId(id))
+        Ok(Inserted { id: SubmissionId(id), duplicate: false })
     }
 
-    /// The uploaded file of a submission, verbatim.
+    /// The uploaded results of a submission, verbatim.
     ///
     /// # Errors
     /// [`HighscoreError::UnknownSubmission`] if there is no such submission.
@@ -296,49 +416,26 @@ impl Store {
     /// # Errors
     /// [`HighscoreError::Database`] if SQLite fails.
     pub fn submission_benchmarks(&self, id: SubmissionId) -> Result<Vec<String>> {
-        let mut stmt = self.conn.prepare(
-            "SELECT benchmark_id FROM grasp_cells WHERE submission_id = ?1
-             UNION SELECT benchmark_id FROM motion_runs WHERE submission_id = ?1 ORDER BY 1",
-        )?;
+        let mut stmt = self
+            .conn
+            .prepare_cached("SELECT DISTINCT benchmark_id FROM entries WHERE submission_id = ?1 ORDER BY 1")?;
         let rows = stmt.query_map([id.0], |r| r.get(0))?;
         Ok(rows.collect::<rusqlite::Result<_>>()?)
     }
 
-    /// The ranking of one benchmark (see [`GRASP_RULES`] and [`MOTION_RULES`]).
+    /// The full ranking of one benchmark (see [`GRASP_RULES`] and [`MOTION_RULES`]).
     ///
     /// # Errors
     /// [`HighscoreError::UnknownBenchmark`] if `benchmark` is not on the board,
     /// [`HighscoreError::Database`] if SQLite fails.
     pub fn ranking(&self, benchmark: &str) -> Result<Ranking> {
         let info = self.benchmark(benchmark)?;
-        let mut entries = match info.kind {
-            BenchmarkKind::Grasp => self.grasp_entries(&info.id)?,
-            BenchmarkKind::Motion => self.motion_entries(&info.id)?,
-        };
-        // Runs of different suite sizes are not comparable: each size is its own league.
-        entries.sort_by(|a, b| {
-            suite_size_order(&a.suite_size)
-                .cmp(&suite_size_order(&b.suite_size))
-                .then_with(|| a.suite_size.cmp(&b.suite_size))
-                .then(a.metrics.compare(&b.metrics))
-                .then(a.submission.cmp(&b.submission))
-        });
-        let mut league_start = 0;
-        for i in 0..entries.len() {
-            if i > 0 && entries[i].suite_size != entries[i - 1].suite_size {
-                league_start = i;
-            }
-            entries[i].rank = if i > league_start && entries[i].metrics.compare(&entries[i - 1].metrics).is_eq() {
-                entries[i - 1].rank
-            } else {
-                i - league_start + 1
-            };
-        }
+        let entries = rank::ranked_entries(&self.conn, &info)?;
         let rules = match info.kind {
             BenchmarkKind::Grasp => GRASP_RULES,
             BenchmarkKind::Motion => MOTION_RULES,
         };
-        Ok(Ranking { benchmark: info, rules: rules.to_string(), entries })
+        Ok(Ranking { benchmark: info, rules: rules.to_string(), total: entries.len(), offset: 0, entries })
     }
 
     /// Rankings of every benchmark, ordered by id.
@@ -347,116 +444,6 @@ impl Store {
     /// As [`Store::ranking`].
     pub fn rankings(&self) -> Result<Vec<Ranking>> {
         self.benchmarks()?.iter().map(|b| self.ranking(&b.id)).collect()
-    }
-
-    fn entry_head(
-        &self,
-        submission: i64,
-        kind: BenchmarkKind,
-        planner: String,
-        metrics: EntryMetrics,
-    ) -> Result<RankedEntry> {
-        type Head = (String, String, Option<String>, Option<String>, String, String);
-        let (submitted_at, submitter, team, seed, version, suite_size): Head = self.conn.query_row(
-            &format!(
-                "SELECT submitted_at, submitter, team, {}_seed, opengrasp_version, suite_size FROM submissions WHERE id = ?1",
-                kind.as_str()
-            ),
-            [submission],
-            |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?, r.get(3)?, r.get(4)?, r.get(5)?)),
-        )?;
-        let parameters: Option<String> = self
-            .conn
-            .query_row(
-                "SELECT parameters FROM submission_planners WHERE submission_id = ?1 AND kind = ?2 AND name = ?3",
-                params![submission, kind.as_str(), planner],
-                |r| r.get(0),
-            )
-            .optional()?;
-        Ok(RankedEntry {
-            rank: 0,
-            submission: SubmissionId(submission),
-            submitted_at,
-            submitter,
-            team,
-            planner,
-            parameters,
-            seed: seed.and_then(|s| s.parse().ok()),
-            version,
-            suite_size,
-            metrics,
-        })
-    }
-
-    fn grasp_entries(&self, benchmark: &str) -> Result<Vec<RankedEntry>> {
-        let mut stmt = self.conn.prepare(
-            "SELECT submission_id, planner, COUNT(DISTINCT object), SUM(evaluated), SUM(palm_contact),
-                    SUM(force_closure_palm), SUM(mean_epsilon * force_closure_palm)
-             FROM grasp_cells WHERE benchmark_id = ?1 GROUP BY submission_id, planner",
-        )?;
-        let rows = stmt
-            .query_map([benchmark], |r| {
-                Ok((
-                    r.get::<_, i64>(0)?,
-                    r.get::<_, String>(1)?,
-                    r.get::<_, i64>(2)?,
-                    r.get::<_, i64>(3)?,
-                    r.get::<_, i64>(4)?,
-                    r.get::<_, i64>(5)?,
-                    r.get::<_, f64>(6)?,
-                ))
-            })?
-            .collect::<rusqlite::Result<Vec<_>>>()?;
-        let mut out = Vec::with_capacity(rows.len());
-        for (sub, planner, objects, evaluated, palm, fc_palm, eps_sum) in rows {
-            let metrics = EntryMetrics::Grasp {
-                objects: objects.max(0) as u64,
-                evaluated: evaluated.max(0) as u64,
-                palm_contact: palm.max(0) as u64,
-                force_closure_palm: fc_palm.max(0) as u64,
-                fc_percent: if palm > 0 { 100.0 * fc_palm as f64 / palm as f64 } else { 0.0 },
-                mean_epsilon: if fc_palm > 0 { eps_sum / fc_palm as f64 } else { 0.0 },
-            };
-            out.push(self.entry_head(sub, BenchmarkKind::Grasp, planner, metrics)?);
-        }
-        Ok(out)
-    }
-
-    fn motion_entries(&self, benchmark: &str) -> Result<Vec<RankedEntry>> {
-        let mut stmt = self.conn.prepare(
-            "SELECT submission_id, planner, status, planning_time, processed_strict, processed_continuous
-             FROM motion_runs WHERE benchmark_id = ?1 ORDER BY submission_id, planner",
-        )?;
-        type Row = (i64, String, String, f64, Option<bool>, Option<bool>);
-        let rows = stmt
-            .query_map([benchmark], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?, r.get(3)?, r.get(4)?, r.get(5)?)))?
-            .collect::<rusqlite::Result<Vec<Row>>>()?;
-        let mut groups: BTreeMap<(i64, String), Vec<Row>> = BTreeMap::new();
-        for row in rows {
-            groups.entry((row.0, row.1.clone())).or_default().push(row);
-        }
-        let mut out = Vec::with_capacity(groups.len());
-        for ((sub, planner), runs) in groups {
-            let solved: Vec<&Row> = runs.iter().filter(|r| r.2 == "solved").collect();
-            let mut times: Vec<f64> = solved.iter().map(|r| r.3).collect();
-            times.sort_by(f64::total_cmp);
-            let median = match times.len() {
-                0 => None,
-                n if n % 2 == 1 => Some(times[n / 2]),
-                n => Some(0.5 * (times[n / 2 - 1] + times[n / 2])),
-            };
-            let valid = solved.iter().filter(|r| r.4 == Some(true) && r.5 != Some(false)).count();
-            let pct = |a: usize, b: usize| if b == 0 { 0.0 } else { 100.0 * a as f64 / b as f64 };
-            let metrics = EntryMetrics::Motion {
-                runs: runs.len() as u64,
-                solved: solved.len() as u64,
-                success_rate: pct(solved.len(), runs.len()),
-                median_planning_time: median,
-                valid_processed: pct(valid, solved.len()),
-            };
-            out.push(self.entry_head(sub, BenchmarkKind::Motion, planner, metrics)?);
-        }
-        Ok(out)
     }
 }
 
@@ -559,16 +546,4 @@ fn insert_runs(
         ])?;
     }
     Ok(())
-}
-
-/// League order of suite sizes on a ranking: the paper-sized suite first, then the default,
-/// custom and tiny ones, then any other name.
-fn suite_size_order(size: &str) -> u8 {
-    match size {
-        "paper" => 0,
-        "default" => 1,
-        "custom" => 2,
-        "tiny" => 3,
-        _ => 4,
-    }
 }

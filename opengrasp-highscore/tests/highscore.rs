@@ -169,14 +169,39 @@ fn submit_file(
 /// A minimal HTTP/1.1 client over loopback: one request per connection (`Connection: close`),
 /// the body written from a second thread so a server that answers early (413) cannot block us.
 fn http(addr: SocketAddr, method: &str, path: &str, body: Option<Vec<u8>>) -> (u16, String) {
+    let (status, _, body) = http_full(addr, method, path, body, TOKEN.with(|t| t.borrow().clone()).as_deref());
+    (status, body)
+}
+
+thread_local! {
+    /// The API token `http` sends (set by `with_token`).
+    static TOKEN: std::cell::RefCell<Option<String>> = const { std::cell::RefCell::new(None) };
+}
+
+/// Issues a token for team H2T and makes `http` send it on this thread.
+fn with_token(db: &Path) -> String {
+    let (_, token) = Store::open(db).expect("open").issue_token("H2T").expect("token");
+    TOKEN.with(|t| *t.borrow_mut() = Some(token.clone()));
+    token
+}
+
+/// As `http`, with an optional bearer token; also returns the response head.
+fn http_full(
+    addr: SocketAddr,
+    method: &str,
+    path: &str,
+    body: Option<Vec<u8>>,
+    token: Option<&str>,
+) -> (u16, String, String) {
     assert!(addr.ip().is_loopback(), "tests only talk to loopback");
     let mut stream = TcpStream::connect_timeout(&addr, Duration::from_secs(10)).expect("connect");
     stream.set_read_timeout(Some(Duration::from_secs(60))).expect("timeout");
     stream.set_write_timeout(Some(Duration::from_secs(60))).expect("timeout");
     let body = body.unwrap_or_default();
+    let auth = token.map(|t| format!("Authorization: Bearer {t}\r\n")).unwrap_or_default();
     let head = format!(
         "{method} {path} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\nContent-Type: application/json\r\n\
-         Content-Length: {}\r\n\r\n",
+         {auth}Content-Length: {}\r\n\r\n",
         body.len()
     );
     let mut writer = stream.try_clone().expect("clone");
@@ -206,7 +231,7 @@ fn http(addr: SocketAddr, method: &str, path: &str, body: Option<Vec<u8>>) -> (u
         }
         body = out;
     }
-    (status, String::from_utf8(body).expect("utf-8 body"))
+    (status, head, String::from_utf8(body).expect("utf-8 body"))
 }
 
 fn json(body: &str) -> Value {
@@ -231,6 +256,11 @@ fn slugs_of_scene_names() {
 #[test]
 fn builtin_benchmarks_are_registered_and_distinct() {
     let t = TempDb::new("builtin");
+    // Reads never create the database.
+    assert!(matches!(highscore::benchmarks(&t.db()), Err(HighscoreError::NoDatabase { .. })));
+    assert!(matches!(highscore::ranking(&t.db(), None), Err(HighscoreError::NoDatabase { .. })));
+    assert!(!t.db().exists());
+    Store::open(&t.db()).expect("create");
     let b = highscore::benchmarks(&t.db()).expect("benchmarks");
     let ids: Vec<&str> = b.iter().map(|b| b.id.as_str()).collect();
     for id in ["grasp/barrett", "grasp/armar3", "motion/planar-post", "motion/standard-7-dof-stand-in"] {
@@ -308,10 +338,10 @@ fn motion_ranking_success_then_median_time_then_validity() {
         .enumerate()
         .map(|(i, &(ok, t))| run("sloppy", s, i, ok, t, i != 1))
         .collect();
-    // sure: 2/2 solved but slow -> first on success rate.
-    let sure: Vec<RunRecord> = (0..2).map(|i| run("sure", s, i, true, 3.0, true)).collect();
-    // never: 0/2 -> last, no median.
-    let never: Vec<RunRecord> = (0..2).map(|i| run("never", s, i, false, 5.0, false)).collect();
+    // sure: 4/4 solved but slow -> first on success rate.
+    let sure: Vec<RunRecord> = (0..4).map(|i| run("sure", s, i, true, 3.0, true)).collect();
+    // never: 0/4 -> last, no median.
+    let never: Vec<RunRecord> = (0..4).map(|i| run("never", s, i, false, 5.0, false)).collect();
     let all: Vec<RunRecord> = [slow, sloppy, fast.clone(), sure, never].concat();
     let first = submit_file(&t, &motion_file(all), Submitter::new("dora").with_team("lab")).expect("submit");
     // The same fast results again, later: equal on every key -> shares the rank.
@@ -407,6 +437,7 @@ fn newer_schema_is_refused_and_benchmarks_can_be_registered() {
 fn http_submit_rank_and_render() {
     let t = TempDb::new("http");
     let server = highscore::spawn(&t.db(), "127.0.0.1:0", ServerOptions::default()).expect("spawn");
+    with_token(&t.db());
     let addr = server.addr();
 
     let (status, body) = http(addr, "GET", "/api/benchmarks", None);
@@ -456,6 +487,7 @@ fn http_submit_rank_and_render() {
 fn http_rejects_bad_uploads_without_writing() {
     let t = TempDb::new("http-reject");
     let server = highscore::spawn(&t.db(), "127.0.0.1:0", ServerOptions::default()).expect("spawn");
+    with_token(&t.db());
     let addr = server.addr();
     let good = grasp_file(vec![cell("alpha", "barrett", "cup", 10, 5, 0.1)]);
     let (status, body) = http(addr, "POST", "/api/submissions", Some(upload("ann", &good)));
@@ -534,6 +566,7 @@ fn real_tiny_motion_run_is_submitted_and_ranked() {
     let path = t.file("run.json");
     results.save(&path).expect("save");
     let server = highscore::spawn(&t.db(), "127.0.0.1:0", ServerOptions::default()).expect("spawn");
+    with_token(&t.db());
     let text = std::fs::read_to_string(&path).expect("read");
     let body = format!(r#"{{"submitter": "ci", "results": {text}}}"#);
     let (status, answer) = http(server.addr(), "POST", "/api/submissions", Some(body.into_bytes()));
@@ -611,8 +644,21 @@ mod properties {
 fn suite_sizes_are_ranked_as_separate_leagues() {
     let t = TempDb::new("leagues");
     let sized = |size: &str, planner: &str, palm: usize, fc: usize| {
-        let mut f = grasp_file(vec![cell(planner, "barrett", "cup", palm, fc, 0.1)]);
+        let mut c = cell(planner, "barrett", "cup", palm, fc, 0.1);
+        let max = match size {
+            "tiny" => Some(4),
+            "default" => Some(128),
+            _ => None,
+        };
+        if let Some(m) = max {
+            // The reference sizes evaluate at most their candidate limit per cell.
+            c.cell.generated = c.cell.generated.min(m);
+            c.cell.evaluated = c.cell.evaluated.min(m);
+            c.cell.fc_percent_all = 100.0 * fc as f64 / c.cell.evaluated as f64;
+        }
+        let mut f = grasp_file(vec![c]);
         f.provenance.suite_size = size.into();
+        f.grasp.as_mut().expect("grasp").max_candidates = max;
         f
     };
     // A tiny run with 100 % must not outrank paper-sized runs; each size has its own ranks.
