@@ -165,9 +165,13 @@ pub struct RunArgs {
     /// `default`, 5 for `paper`).
     #[arg(long)]
     pub episodes: Option<usize>,
-    /// Results file to write (atomically).
+    /// Results file to write (atomically; checked for writability before the run starts).
     #[arg(long, default_value = "results.json")]
     pub out: PathBuf,
+    /// Run only shard K of N (0-based, `K/N`): every N-th job of the suite from job K, with
+    /// the seeds an unsharded run gives them; `opengrasp merge` combines the shards' files.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub jobs: Option<usize>,
@@ -200,6 +204,16 @@ pub enum Command {
         /// Write the motion results as OMPL benchmark logs (one per scene) into this directory.
         #[arg(long)]
         ompl: Option<PathBuf>,
+    },
+    /// Merge the results files of a sharded run (`run --shard K/N`, all N shards) into the
+    /// results of the unsharded run.
+    Merge {
+        /// The shards' results files, in any order.
+        #[arg(required = true)]
+        files: Vec<PathBuf>,
+        /// The merged results file.
+        #[arg(long, default_value = "results.json")]
+        out: PathBuf,
     },
     /// Submit a results file to a high-score server (`--server`) or a local database.
     Submit {
@@ -327,6 +341,9 @@ pub fn build_suite(args: &RunArgs) -> Result<Suite> {
     if !args.scenes.is_empty() {
         suite = suite.retain_scenes(&args.scenes)?;
     }
+    if let Some(shard) = &args.shard {
+        suite = suite.shard(crate::results::Shard::parse(shard)?);
+    }
     Ok(suite)
 }
 
@@ -367,6 +384,7 @@ fn progress_bars() -> impl Fn(&Progress) + Send + Sync + 'static {
 /// As [`build_suite`], [`Suite::run`] and [`ResultsFile::save`].
 pub fn run(args: &RunArgs, show_progress: bool) -> Result<(ResultsFile, String)> {
     let mut suite = build_suite(args)?;
+    crate::results::check_writable(&args.out)?;
     if show_progress {
         suite = suite.on_progress(progress_bars());
     }
@@ -433,12 +451,23 @@ pub fn execute(cli: Cli) -> std::result::Result<(), CliError> {
                 results.provenance.jobs
             );
         }
+        Command::Merge { files, out } => {
+            crate::results::check_writable(&out)?;
+            let shards = files.iter().map(ResultsFile::load).collect::<Result<Vec<_>>>()?;
+            let merged = crate::results::merge(shards)?;
+            merged.save(&out)?;
+            eprintln!("merged {} shards into {}", files.len(), out.display());
+        }
         Command::Report { file, format, plots, ompl } => {
             let text = crate::highscore::read::read_file_bounded(&file, MAX_REPORT_BYTES)?;
             let results = ResultsFile::from_json(&text).map_err(|e| match e {
                 Error::Parse { source, .. } => Error::Parse { path: file.clone(), source },
                 other => other,
             })?;
+            // Output directories first, so a bad path fails before anything is printed.
+            for dir in plots.iter().chain(&ompl) {
+                std::fs::create_dir_all(dir).map_err(|source| Error::Io { path: dir.clone(), source })?;
+            }
             print!("{}", report::render(&results, format.into()));
             if let Some(dir) = plots {
                 for p in crate::plots::plot_all(&results, &dir)? {
@@ -450,7 +479,6 @@ pub fn execute(cli: Cli) -> std::result::Result<(), CliError> {
                     name: "ompl",
                     reason: "the results file has no motion results".into(),
                 })?;
-                std::fs::create_dir_all(&dir).map_err(|source| Error::Io { path: dir.clone(), source })?;
                 for (name, text) in crate::ompl::logs(motion, &results.provenance) {
                     let path = dir.join(name);
                     crate::results::write_atomic(&path, |w| std::io::Write::write_all(w, text.as_bytes()))?;

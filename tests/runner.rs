@@ -745,3 +745,97 @@ fn run_grasp_with_physics_checks_end_to_end() {
     assert!(!std::fs::read_to_string(&out).unwrap().contains("\"candidates\""));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `run --shard K/N` as N separate processes, merged with `opengrasp merge`, gives exactly the
+/// records of the unsharded run (timing aside) in the same order, the same tables, and a
+/// provenance that lists the shards; incomplete or mixed shard sets are refused.
+#[test]
+fn sharded_runs_merge_into_the_unsharded_run() {
+    let dir = std::env::temp_dir().join(format!("opengrasp-shards-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let opengrasp = |args: &[&str]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_opengrasp")).args(args).output().unwrap();
+        assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+    };
+    let run = |out: &Path, shard: Option<&str>| {
+        let mut args = vec![
+            "run",
+            "all",
+            "--size",
+            "tiny",
+            "--hand",
+            "barrett",
+            "--hand",
+            "sdh",
+            "--object",
+            "salt_can",
+            "--object",
+            "white_cup",
+            "--seed",
+            "5",
+            "--jobs",
+            "1",
+            "--quiet",
+            "--out",
+        ];
+        args.push(out.to_str().unwrap());
+        if let Some(s) = shard {
+            args.extend(["--shard", s]);
+        }
+        opengrasp(&args);
+    };
+    let whole = dir.join("whole.json");
+    run(&whole, None);
+    let shards: Vec<PathBuf> = (0..3).map(|k| dir.join(format!("shard{k}.json"))).collect();
+    for (k, path) in shards.iter().enumerate() {
+        run(path, Some(&format!("{k}/3")));
+    }
+    // Each shard holds only its slice: 4 grasp cells + 2 motion pairs = 6 jobs, 2 per shard.
+    let first = ResultsFile::load(&shards[0]).unwrap();
+    assert_eq!(first.provenance.shard, Some(opengrasp::results::Shard { index: 0, count: 3 }));
+    assert_eq!(first.grasp.as_ref().unwrap().cells.len(), 2 * 2); // 2 cells × 2 planners
+    let merged_path = dir.join("merged.json");
+    let mut args = vec!["merge"];
+    let names: Vec<String> = shards.iter().rev().map(|p| p.to_str().unwrap().to_string()).collect();
+    args.extend(names.iter().map(String::as_str));
+    args.extend(["--out", merged_path.to_str().unwrap()]);
+    opengrasp(&args);
+    let unsharded = ResultsFile::load(&whole).unwrap();
+    let merged = ResultsFile::load(&merged_path).unwrap();
+    assert_eq!(merged.provenance.merged_from.len(), 3);
+    assert!(merged.provenance.merged_from.iter().enumerate().all(|(k, p)| p.shard.unwrap().index == k));
+    let order = |f: &ResultsFile| -> Vec<(String, String)> {
+        f.motion.as_ref().unwrap().summaries.iter().map(|s| (s.scene.clone(), s.planner.clone())).collect()
+    };
+    assert_eq!(order(&merged), order(&unsharded));
+    assert_eq!(
+        report::render(&ResultsFile { provenance: unsharded.provenance.clone(), ..merged.clone() }, Format::Csv)
+            .lines()
+            .count(),
+        report::render(&unsharded, Format::Csv).lines().count()
+    );
+    assert_eq!(without_timing(merged), without_timing(unsharded.clone()));
+    // Incomplete, repeated and unsharded inputs are errors.
+    let load = |p: &PathBuf| ResultsFile::load(p).unwrap();
+    assert!(opengrasp::results::merge(vec![load(&shards[0]), load(&shards[1])]).is_err());
+    assert!(opengrasp::results::merge(vec![load(&shards[0]), load(&shards[0]), load(&shards[2])]).is_err());
+    assert!(opengrasp::results::merge(vec![unsharded]).is_err());
+    assert!(opengrasp::results::merge(Vec::new()).is_err());
+    assert!(opengrasp::results::Shard::parse("3/3").is_err() && opengrasp::results::Shard::parse("a/2").is_err());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A run's `--out` is checked before the run: a bad path fails at once, with nothing run.
+#[test]
+fn run_checks_its_output_path_first() {
+    let cli =
+        Cli::try_parse_from(["opengrasp", "run", "motion", "--size", "tiny", "--out", "/no/such/dir/r.json"]).unwrap();
+    let Command::Run(args) = cli.command else { panic!("a run") };
+    match cli::run(&args, false) {
+        Err(Error::Io { path, .. }) => assert_eq!(path, PathBuf::from("/no/such/dir/r.json")),
+        other => panic!("expected an i/o error on the output path, got {other:?}"),
+    }
+    // A directory is not a results file either.
+    assert!(matches!(opengrasp::results::check_writable(&std::env::temp_dir()), Err(Error::Io { .. })));
+    assert!(opengrasp::results::check_writable(&std::env::temp_dir().join("fresh-results.json")).is_ok());
+}

@@ -50,3 +50,25 @@ pub fn write_atomic(path: &Path, write: impl FnOnce(&mut BufWriter<File>) -> io:
     }
     Ok(())
 }
+
+/// Checks, before any work is done, that `path` can be written: its directory exists and a
+/// file can be created in it (a probe file is created and removed; an existing `path` is left
+/// untouched). A run's `--out` is checked this way so a bad path never throws a run away.
+///
+/// # Errors
+/// [`Error::Io`] naming `path` and why it cannot be written.
+pub fn check_writable(path: &Path) -> Result<()> {
+    let io_err = |source| Error::Io { path: path.to_path_buf(), source };
+    if path.is_dir() {
+        return Err(io_err(io::Error::new(io::ErrorKind::IsADirectory, "is a directory, not a file")));
+    }
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let probe =
+        dir.join(format!(".opengrasp-probe.{}.{}", std::process::id(), TEMP_COUNTER.fetch_add(1, Ordering::Relaxed)));
+    File::create(&probe).map_err(io_err)?;
+    let _ = fs::remove_file(&probe);
+    Ok(())
+}

@@ -37,6 +37,7 @@
 //! cell, the unit the high-score board ranks.
 
 mod atomic;
+mod merge;
 mod provenance;
 mod validate;
 
@@ -49,9 +50,10 @@ use opengrasp_motion::benchmark::{BenchmarkOptions, RunRecord, Summary};
 use serde::{Deserialize, Serialize};
 
 pub use crate::error::{Error, Result};
-pub use atomic::write_atomic;
+pub use atomic::{check_writable, write_atomic};
+pub use merge::merge;
 pub use provenance::{
-    civil_from_days, cpu_model, git_commit, iso8601_from_unix, utc_now_iso8601, Provenance, BUILD_GIT_COMMIT,
+    civil_from_days, cpu_model, git_commit, iso8601_from_unix, utc_now_iso8601, Provenance, Shard, BUILD_GIT_COMMIT,
 };
 use validate::{invalid, non_negative, validate_grasp, validate_motion};
 

@@ -44,6 +44,57 @@ pub struct Provenance {
     pub wall_seconds: f64,
     /// Worker threads used.
     pub jobs: usize,
+    /// The slice of the suite this file holds, for one shard of a sharded run.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shard: Option<Shard>,
+    /// For a merged file: the provenance of every shard, in shard order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub merged_from: Vec<Provenance>,
+}
+
+/// One slice of a suite split across machines: shard `index` of `count` (0-based) runs the
+/// suite's jobs `index, index + count, index + 2·count, ...` in job order — a grasp job is a
+/// hand × object cell, a motion job a scene × planner pair (or one run of it when its
+/// environment changes per run) or a Clean the Table episode — with exactly the seeds an
+/// unsharded run gives them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Shard {
+    /// This shard, `0..count`.
+    pub index: usize,
+    /// Number of shards (at least 1).
+    pub count: usize,
+}
+
+impl Shard {
+    /// Parses `"K/N"` (0-based `K < N`), as given to `opengrasp run --shard`.
+    ///
+    /// # Errors
+    /// [`crate::Error::InvalidOption`] naming what is wrong.
+    pub fn parse(text: &str) -> crate::Result<Self> {
+        let bad = |reason: String| crate::Error::InvalidOption { name: "shard", reason };
+        let (k, n) = text.split_once('/').ok_or_else(|| bad(format!("{text:?}: expected K/N, e.g. 0/4")))?;
+        let parse = |v: &str| v.trim().parse::<usize>().map_err(|e| bad(format!("{text:?}: {e}")));
+        Self::new(parse(k)?, parse(n)?)
+    }
+
+    /// Shard `index` of `count`.
+    ///
+    /// # Errors
+    /// [`crate::Error::InvalidOption`] unless `index < count`.
+    pub fn new(index: usize, count: usize) -> crate::Result<Self> {
+        if index >= count {
+            return Err(crate::Error::InvalidOption {
+                name: "shard",
+                reason: format!("shard {index}/{count}: the index must be below the count (0-based)"),
+            });
+        }
+        Ok(Self { index, count })
+    }
+
+    /// True if job `job` (in job order) belongs to this shard.
+    pub fn owns(&self, job: usize) -> bool {
+        job % self.count == self.index
+    }
 }
 
 impl Provenance {
@@ -75,6 +126,8 @@ impl Provenance {
             finished_at: now,
             wall_seconds: 0.0,
             jobs,
+            shard: None,
+            merged_from: Vec::new(),
         }
     }
 

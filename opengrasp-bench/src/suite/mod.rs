@@ -62,7 +62,7 @@ use opengrasp_motion::validity::{ObstacleBox, SphereWorld};
 use opengrasp_motion::{Goal, MotionPlanner};
 
 use crate::paper::PAPER_OBJECTS;
-use crate::results::{Category, Error, PlannerInfo, Provenance, Result, ResultsFile};
+use crate::results::{Category, Error, PlannerInfo, Provenance, Result, ResultsFile, Shard};
 use crate::stock::{stock_hand, stock_object};
 
 /// Scene name of the Clean the Table queries in the results (scene 3).
@@ -167,6 +167,7 @@ pub struct Suite {
     motion: BenchmarkOptions,
     episodes: usize,
     jobs: usize,
+    shard: Option<Shard>,
     progress: Option<ProgressFn>,
 }
 
@@ -190,6 +191,7 @@ impl Suite {
             motion: BenchmarkOptions::default(),
             episodes: 0,
             jobs: std::thread::available_parallelism().map_or(1, |n| n.get()),
+            shard: None,
             progress: None,
         }
     }
@@ -402,6 +404,13 @@ impl Suite {
         self
     }
 
+    /// Runs only one slice of the suite (see [`Shard`]); `opengrasp merge` (or
+    /// [`crate::results::merge`]) combines the shards' files into the unsharded results.
+    pub fn shard(mut self, shard: Shard) -> Self {
+        self.shard = Some(shard);
+        self
+    }
+
     /// Calls `f` after every finished job.
     pub fn on_progress(mut self, f: impl Fn(&Progress) + Send + Sync + 'static) -> Self {
         self.progress = Some(Arc::new(f));
@@ -489,6 +498,7 @@ impl Suite {
         }
         let start = Instant::now();
         let mut provenance = Provenance::collect(&self.size_label, self.jobs);
+        provenance.shard = self.shard;
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(self.jobs)
             .build()

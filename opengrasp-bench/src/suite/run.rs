@@ -16,6 +16,14 @@ use crate::results::{Category, EpisodeRecord, GraspRecord, GraspSection, MotionS
 use super::{MotionEntry, Progress, Suite, CLEAN_THE_TABLE_SCENE};
 
 impl Suite {
+    /// The jobs of this suite's shard (all of them when unsharded), in job order.
+    fn owned<T>(&self, jobs: Vec<T>) -> Vec<T> {
+        match self.shard {
+            None => jobs,
+            Some(shard) => jobs.into_iter().enumerate().filter(|(i, _)| shard.owns(*i)).map(|(_, j)| j).collect(),
+        }
+    }
+
     pub(super) fn report(&self, category: Category, done: &AtomicUsize, add: usize, total: usize, label: String) {
         let done = done.fetch_add(add, Ordering::Relaxed) + add;
         if let Some(f) = &self.progress {
@@ -25,7 +33,7 @@ impl Suite {
 
     pub(super) fn run_grasp(&self) -> Result<GraspSection> {
         let jobs: Vec<(&Hand, &ObjectModel)> =
-            self.grasp.hands.iter().flat_map(|h| self.grasp.objects.iter().map(move |o| (h, o))).collect();
+            self.owned(self.grasp.hands.iter().flat_map(|h| self.grasp.objects.iter().map(move |o| (h, o))).collect());
         let planners: Vec<&dyn GraspPlanner> = self.grasp_planners.iter().map(|p| &*p.planner).collect();
         let done = AtomicUsize::new(0);
         let run_job = |&(hand, object): &(&Hand, &ObjectModel)| -> Result<Vec<GraspRecord>> {
@@ -84,7 +92,14 @@ impl Suite {
         for p in 0..table_planners.len() {
             jobs.extend((0..self.episodes).map(|e| MotionJob::Episode(p, e)));
         }
-        let total = pairs.len() * runs + table_planners.len() * self.episodes * 2 * TABLE_OBJECTS.len();
+        let jobs = self.owned(jobs);
+        let total = jobs
+            .iter()
+            .map(|j| match j {
+                MotionJob::Scene(_, range) => range.len(),
+                MotionJob::Episode(..) => 2 * TABLE_OBJECTS.len(),
+            })
+            .sum();
         let done = AtomicUsize::new(0);
         let run_job = |job: &MotionJob| -> (Vec<RunRecord>, Option<EpisodeRecord>) {
             match job {
@@ -125,10 +140,12 @@ impl Suite {
             .iter()
             .map(|(scene, entry)| (scene.name.as_str(), *entry))
             .chain(table_planners.iter().map(|entry| (CLEAN_THE_TABLE_SCENE, *entry)))
-            .map(|(scene, entry)| {
+            .filter_map(|(scene, entry)| {
                 let records: Vec<&RunRecord> =
                     all.iter().filter(|r| r.scene == scene && r.planner == entry.info.name).collect();
-                Summary::from_records(&entry.info.name, scene, &records)
+                // A shard summarises only the pairs it ran.
+                (self.shard.is_none() || !records.is_empty())
+                    .then(|| Summary::from_records(&entry.info.name, scene, &records))
             })
             .collect();
         MotionSection {
