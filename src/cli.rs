@@ -98,6 +98,24 @@ impl From<SizeArg> for SuiteSize {
     }
 }
 
+/// Motion protocol on the command line (see `opengrasp::motion::protocol`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ProtocolArg {
+    /// Certified shortcutting (default).
+    Certified,
+    /// The paper's reference evaluation.
+    Paper,
+}
+
+impl From<ProtocolArg> for crate::motion::protocol::Protocol {
+    fn from(p: ProtocolArg) -> Self {
+        match p {
+            ProtocolArg::Certified => Self::Certified,
+            ProtocolArg::Paper => Self::Paper,
+        }
+    }
+}
+
 /// Report format on the command line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum FormatArg {
@@ -168,6 +186,11 @@ pub struct RunArgs {
     /// Results file to write (atomically; checked for writability before the run starts).
     #[arg(long, default_value = "results.json")]
     pub out: PathBuf,
+    /// Motion protocol: `certified` (default; shortcuts certified, post-processed paths valid
+    /// by construction) or `paper` (the OpenGRASP paper's reference evaluation: step 0.05, plain
+    /// shortcutting, fine re-check; setup time includes loading the scene).
+    #[arg(long, value_enum, default_value = "certified")]
+    pub protocol: ProtocolArg,
     /// Run only shard K of N (0-based, `K/N`): every N-th job of the suite from job K, with
     /// the seeds an unsharded run gives them; `opengrasp merge` combines the shards' files.
     #[arg(long, value_name = "K/N")]
@@ -340,6 +363,9 @@ pub fn build_suite(args: &RunArgs) -> Result<Suite> {
     }
     if !args.scenes.is_empty() {
         suite = suite.retain_scenes(&args.scenes)?;
+    }
+    if args.protocol != ProtocolArg::Certified {
+        suite = suite.protocol(args.protocol.into());
     }
     if let Some(shard) = &args.shard {
         suite = suite.shard(crate::results::Shard::parse(shard)?);

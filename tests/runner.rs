@@ -272,27 +272,38 @@ fn grasp_tables_have_the_right_numbers() {
     assert_eq!(tables.len(), 1);
     let t = &tables[0];
     assert!(t.title.starts_with("Table II"));
-    assert_eq!(t.cell("Salt can", "MA tested"), Some("10"));
-    assert_eq!(t.cell("Salt can", "MA FC %"), Some("70.0"));
-    assert_eq!(t.cell("Salt can", "SN tested"), Some("4"));
-    assert_eq!(t.cell("Salt can", "SN FC %"), Some("25.0"));
-    assert_eq!(t.cell("White cup", "SN FC %"), Some("-"));
+    assert_eq!(t.cell("Salt can", "MA n"), Some("10"));
+    assert_eq!(t.cell("Salt can", "MA FC%"), Some("70.0"));
+    assert_eq!(t.cell("Salt can", "SN n"), Some("4"));
+    assert_eq!(t.cell("Salt can", "SN FC%"), Some("25.0"));
+    assert_eq!(t.cell("White cup", "SN FC%"), Some("-"));
     // The paper's Table II numbers beside ours.
-    assert_eq!(t.cell("Salt can", "MA paper tested"), Some("1072"));
-    assert_eq!(t.cell("Salt can", "MA paper FC %"), Some("91.4"));
-    assert_eq!(t.cell("White cup", "SN paper FC %"), Some("37.5"));
+    assert_eq!(t.cell("Salt can", "MA paper n"), Some("1072"));
+    assert_eq!(t.cell("Salt can", "MA paper FC%"), Some("91.4"));
+    assert_eq!(t.cell("White cup", "SN paper FC%"), Some("37.5"));
     // Totals: (7 + 3) / (10 + 10) and (1 + 0) / (4 + 0).
-    assert_eq!(t.cell("total", "MA tested"), Some("20"));
-    assert_eq!(t.cell("total", "MA FC %"), Some("50.0"));
-    assert_eq!(t.cell("total", "SN FC %"), Some("25.0"));
+    assert_eq!(t.cell("total", "MA n"), Some("20"));
+    assert_eq!(t.cell("total", "MA FC%"), Some("50.0"));
+    assert_eq!(t.cell("total", "SN FC%"), Some("25.0"));
     // Paper totals: 1072·0.914 + 732·0.638 over 1804 = 80.2 %.
-    assert_eq!(t.cell("total", "MA paper FC %"), Some("80.2"));
+    assert_eq!(t.cell("total", "MA paper FC%"), Some("80.2"));
 
     let md = t.render(Format::Markdown);
     assert!(md.contains("| Salt can | 10 | 70.0 | 0.0500 | 1072 | 91.4 | 4 | 25.0 |"), "{md}");
-    let csv = t.render(Format::Csv);
-    assert!(csv.lines().any(|l| l == "object,MA tested,MA FC %,MA eps,MA paper tested,MA paper FC %,SN tested,SN FC %,SN eps,SN paper tested,SN paper FC %"), "{csv}");
-    assert!(csv.lines().any(|l| l.starts_with("Salt can,10,70.0,0.0500,1072,91.4,4,25.0,")), "{csv}");
+    // Every column explained under the table; "-" is "no data", not 0 %.
+    assert!(md.contains("*n: candidates tested") && md.contains("MA = medial-axis"), "{md}");
+    // Tidy CSV: one header, one line per cell, numbers only in the value column.
+    let csv = opengrasp::report::render_all(std::slice::from_ref(t), Format::Csv);
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some("table,row,column,value,text"));
+    let title = format!("\"{}\"", t.title);
+    assert!(csv.lines().any(|l| l == format!("{title},Salt can,MA FC%,70,")), "{csv}");
+    assert!(csv.lines().any(|l| l == format!("{title},White cup,SN FC%,,")), "{csv}");
+    for l in lines {
+        let fields: Vec<&str> = l.rsplitn(3, ',').collect();
+        assert!(fields[1].is_empty() || fields[1].parse::<f64>().is_ok(), "non-numeric value in {l}");
+    }
+    assert!(csv.lines().count() > t.rows.len() * 4);
 }
 
 #[test]

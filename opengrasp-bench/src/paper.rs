@@ -48,3 +48,44 @@ pub const PAPER_RESULTS: [(&str, &str, &str, usize, f64); 32] = [
     ("green_cup", "barrett", "medial-axis", 514, 34.8),
     ("green_cup", "barrett", "surface-normals", 496, 36.1),
 ];
+
+/// The paper's Table III (first motion planning scene, its reference planner under its
+/// protocol: step 0.05, shortcutting, re-check at a tiny step): average setup, planning and
+/// post-processing times (s), valid % of planned and post-processed paths, C-space lengths and
+/// mean clearances (mm).
+pub struct PaperTableIII {
+    /// Average setup time (s), "including loading and data preparation".
+    pub setup: f64,
+    /// Average planning time (s).
+    pub planning: f64,
+    /// Average post-processing time (s).
+    pub postprocessing: f64,
+    /// Planned paths valid under the fine re-check (%).
+    pub valid_planned: f64,
+    /// Post-processed paths valid under the fine re-check (%).
+    pub valid_processed: f64,
+    /// Mean C-space length of planned paths.
+    pub length_planned: f64,
+    /// Mean C-space length of post-processed paths.
+    pub length_processed: f64,
+    /// Mean clearance of planned paths (mm).
+    pub clearance_planned: f64,
+    /// Mean clearance of post-processed paths (mm).
+    pub clearance_processed: f64,
+}
+
+/// Table III of the paper.
+pub const PAPER_TABLE_III: PaperTableIII = PaperTableIII {
+    setup: 1.44,
+    planning: 0.41,
+    postprocessing: 1.17,
+    valid_planned: 98.1,
+    valid_processed: 76.92,
+    length_planned: 6.73,
+    length_processed: 2.85,
+    clearance_planned: 111.12,
+    clearance_processed: 44.29,
+};
+
+/// The scene of ours that stands for the paper's first motion planning scene.
+pub const PAPER_SCENE_1: &str = "standard (ARMAR-III kitchen)";

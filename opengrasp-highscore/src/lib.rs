@@ -2,7 +2,7 @@
 //!
 //! Like the OpenGRASP web service that "administers the available benchmarks ... and a
 //! benchmarking high-score that records the participants' results", this module keeps every
-//! submitted [`ResultsFile`] in a SQLite database ([`store`]) with its provenance and ranks
+//! submitted [`ResultsFile`](opengrasp_bench::results::ResultsFile) in a SQLite database ([`store`]) with its provenance and ranks
 //! the planners per benchmark; [`server`] serves a JSON API and HTML high-score pages.
 //!
 //! # Benchmarks

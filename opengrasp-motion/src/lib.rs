@@ -19,6 +19,8 @@
 //!   [`validate::DEFAULT_STEP`] = 0.02 in the Euclidean C-space norm, i.e. rad for revolute
 //!   joints), strict checks at a tenth of it, and certified continuous checks by conservative
 //!   advancement (Schwarzer, Saha & Latombe 2005).
+//! - [`protocol`]: the certified protocol (default) and the paper's reference protocol
+//!   (coarse step, plain shortcutting, fine re-check).
 //! - [`metrics`]: C-space and end-effector path length, clearance, OMPL smoothness,
 //!   percentiles.
 //! - [`benchmark`]: the [`BenchmarkScene`](benchmark::BenchmarkScene) (a seeded generator of problem instances)
@@ -74,6 +76,7 @@ pub mod error;
 pub mod metrics;
 pub mod planners;
 pub mod problem;
+pub mod protocol;
 pub mod smoothing;
 pub mod validate;
 pub mod validity;

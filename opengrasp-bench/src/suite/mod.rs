@@ -404,6 +404,13 @@ impl Suite {
         self
     }
 
+    /// Sets the motion benchmark's protocol (steps, shortcut checks, setup timing; see
+    /// [`opengrasp_motion::protocol`]); runs, seed and time limit are kept.
+    pub fn protocol(mut self, protocol: opengrasp_motion::protocol::Protocol) -> Self {
+        self.motion = protocol.apply(self.motion);
+        self
+    }
+
     /// Runs only one slice of the suite (see [`Shard`]); `opengrasp merge` (or
     /// [`crate::results::merge`]) combines the shards' files into the unsharded results.
     pub fn shard(mut self, shard: Shard) -> Self {

@@ -1,4 +1,4 @@
-//! The high-score web service: axum routes ([`routes`]) driven by hyper on a two-worker tokio
+//! The high-score web service: axum routes (`routes`) driven by hyper on a two-worker tokio
 //! runtime, hardened for the open internet.
 //!
 //! # Endpoints

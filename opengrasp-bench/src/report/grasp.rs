@@ -1,0 +1,138 @@
+//! Tables I and II: grasp planners per hand.
+
+use super::{abbreviation, pct, Table};
+use crate::paper::{PAPER_OBJECTS, PAPER_RESULTS};
+use crate::results::GraspSection;
+
+/// Tables I/II: one table per hand (see the [module docs](super)).
+pub fn grasp_tables(g: &GraspSection) -> Vec<Table> {
+    let max_candidates = g.max_candidates;
+    let mut hands: Vec<&str> = g.hands.iter().map(String::as_str).collect();
+    let mut objects: Vec<&str> = g.objects.iter().map(String::as_str).collect();
+    let mut planners: Vec<&str> = g.planners.iter().map(|p| p.name.as_str()).collect();
+    for r in &g.cells {
+        for (list, v) in [(&mut hands, &r.cell.hand), (&mut objects, &r.cell.object), (&mut planners, &r.cell.planner)]
+        {
+            if !list.contains(&v.as_str()) {
+                list.push(v);
+            }
+        }
+    }
+    let mut tables = Vec::new();
+    for hand in hands {
+        let cells: Vec<_> = g.cells.iter().filter(|r| r.cell.hand == hand).map(|r| &r.cell).collect();
+        if cells.is_empty() {
+            continue;
+        }
+        let hand_planners: Vec<&str> =
+            planners.iter().copied().filter(|p| cells.iter().any(|c| c.planner == *p)).collect();
+        let with_paper = |p: &str| PAPER_RESULTS.iter().any(|r| r.1 == hand && r.2 == p);
+        // A physics column (held / tested in the rapier hold check) when the check ran.
+        let with_physics = cells.iter().any(|c| c.physics_tested > 0);
+        let mut headers = vec!["object".to_string()];
+        for p in &hand_planners {
+            let a = abbreviation(p);
+            headers.push(format!("{a} n"));
+            headers.push(format!("{a} FC%"));
+            headers.push(format!("{a} eps"));
+            if with_physics {
+                headers.push(format!("{a} held"));
+            }
+            if with_paper(p) {
+                headers.push(format!("{a} paper n"));
+                headers.push(format!("{a} paper FC%"));
+            }
+        }
+        let mut rows = Vec::new();
+        for object in objects.iter().copied().filter(|o| cells.iter().any(|c| c.object == *o)) {
+            let label = PAPER_OBJECTS.iter().find(|(_, n)| *n == object).map_or(object, |(l, _)| l);
+            let mut row = vec![label.to_string()];
+            for p in &hand_planners {
+                match cells.iter().find(|c| c.object == object && c.planner == *p) {
+                    Some(c) => {
+                        row.push(c.palm_contact.to_string());
+                        row.push(pct(c.force_closure_palm, c.palm_contact));
+                        row.push(format!("{:.4}", c.mean_epsilon));
+                        if with_physics {
+                            row.push(format!("{}/{}", c.physics_held, c.physics_tested));
+                        }
+                    }
+                    None => row.extend(std::iter::repeat_n("-".to_string(), 3 + usize::from(with_physics))),
+                }
+                if with_paper(p) {
+                    match PAPER_RESULTS.iter().find(|r| r.0 == object && r.1 == hand && r.2 == *p) {
+                        Some(r) => {
+                            row.push(r.3.to_string());
+                            row.push(format!("{:.1}", r.4));
+                        }
+                        None => row.extend(std::iter::repeat_n("-".to_string(), 2)),
+                    }
+                }
+            }
+            rows.push(row);
+        }
+        let mut total = vec!["total".to_string()];
+        for p in &hand_planners {
+            let pc: Vec<_> = cells.iter().filter(|c| c.planner == *p).collect();
+            let palm: usize = pc.iter().map(|c| c.palm_contact).sum();
+            let fc: usize = pc.iter().map(|c| c.force_closure_palm).sum();
+            // Cell epsilons are means over their force-closure palm-contact grasps.
+            let eps = if fc == 0 {
+                0.0
+            } else {
+                pc.iter().map(|c| c.mean_epsilon * c.force_closure_palm as f64).sum::<f64>() / fc as f64
+            };
+            total.extend([palm.to_string(), pct(fc, palm), format!("{eps:.4}")]);
+            if with_physics {
+                let tested: usize = pc.iter().map(|c| c.physics_tested).sum();
+                let held: usize = pc.iter().map(|c| c.physics_held).sum();
+                total.push(format!("{held}/{tested}"));
+            }
+            if with_paper(p) {
+                let pr: Vec<_> = PAPER_RESULTS
+                    .iter()
+                    .filter(|r| r.1 == hand && r.2 == *p && pc.iter().any(|c| c.object == r.0))
+                    .collect();
+                let n: usize = pr.iter().map(|r| r.3).sum();
+                let f: f64 = pr.iter().map(|r| r.3 as f64 * r.4 / 100.0).sum();
+                total.push(n.to_string());
+                total.push(if n == 0 { "-".into() } else { format!("{:.1}", 100.0 * f / n as f64) });
+            }
+        }
+        rows.push(total);
+        let which = match hand {
+            "armar3" => "Table I",
+            "barrett" => "Table II",
+            _ => "grasp table",
+        };
+        let mut legend = vec![
+            "n: candidates tested (evaluated grasps whose palm touches the object, the paper's count); \
+             FC%: force-closure grasps among them; eps: their mean Ferrari-Canny epsilon (L1, torques / object radius)."
+                .to_string(),
+        ];
+        if with_physics {
+            legend.push("held: of the force-closure palm grasps simulated in rapier, those that kept the object in all six gravity directions (held/simulated).".into());
+        }
+        if hand_planners.iter().any(|p| with_paper(p)) {
+            legend.push(
+                "paper n, paper FC%: the OpenGRASP paper's numbers for the same hand, object and planner.".into(),
+            );
+        }
+        let abbreviated: Vec<String> = hand_planners
+            .iter()
+            .filter(|p| abbreviation(p) != **p)
+            .map(|p| format!("{} = {p}", abbreviation(p)))
+            .collect();
+        if !abbreviated.is_empty() {
+            legend.push(format!("Planners: {}.", abbreviated.join(", ")));
+        }
+        if let Some(max) = max_candidates {
+            legend.push(format!(
+                "At most {max} candidates evaluated per cell (an even stride over each planner's list); the paper evaluated all."
+            ));
+        }
+        legend.push("-: no data (no candidate tested, or no paper figure).".into());
+        tables.push(Table { title: format!("{which}: grasp planners, hand {hand}"), headers, rows, legend });
+    }
+    tables
+}
