@@ -278,18 +278,21 @@ fn grasp_tables_have_the_right_numbers() {
     assert_eq!(t.cell("Salt can", "SN FC%"), Some("25.0"));
     assert_eq!(t.cell("White cup", "SN FC%"), Some("-"));
     // The paper's Table II numbers beside ours.
-    assert_eq!(t.cell("Salt can", "MA paper n"), Some("1072"));
-    assert_eq!(t.cell("Salt can", "MA paper FC%"), Some("91.4"));
-    assert_eq!(t.cell("White cup", "SN paper FC%"), Some("37.5"));
+    assert_eq!(t.cell("Salt can", "MA p.n"), Some("1072"));
+    assert_eq!(t.cell("Salt can", "MA p.FC%"), Some("91.4"));
+    assert_eq!(t.cell("White cup", "SN p.FC%"), Some("37.5"));
     // Totals: (7 + 3) / (10 + 10) and (1 + 0) / (4 + 0).
     assert_eq!(t.cell("total", "MA n"), Some("20"));
     assert_eq!(t.cell("total", "MA FC%"), Some("50.0"));
     assert_eq!(t.cell("total", "SN FC%"), Some("25.0"));
     // Paper totals: 1072·0.914 + 732·0.638 over 1804 = 80.2 %.
-    assert_eq!(t.cell("total", "MA paper FC%"), Some("80.2"));
+    assert_eq!(t.cell("total", "MA p.FC%"), Some("80.2"));
 
     let md = t.render(Format::Markdown);
     assert!(md.contains("| Salt can | 10 | 70.0 | 0.0500 | 1072 | 91.4 | 4 | 25.0 |"), "{md}");
+    // A hand table with paper columns and its legend fit 120 columns.
+    let text = t.render(Format::Table);
+    assert!(text.lines().all(|l| l.chars().count() <= 120), "{text}");
     // Every column explained under the table; "-" is "no data", not 0 %.
     assert!(md.contains("*n: candidates tested") && md.contains("MA = medial-axis"), "{md}");
     // Tidy CSV: one header, one line per cell, numbers only in the value column.
@@ -310,27 +313,27 @@ fn grasp_tables_have_the_right_numbers() {
 fn motion_tables_have_the_right_numbers() {
     let file = hand_made();
     let tables = report::motion_tables(file.motion.as_ref().unwrap());
-    assert_eq!(tables.len(), 3);
-    let (times, quality, pct) = (&tables[0], &tables[1], &tables[2]);
+    assert_eq!(tables.len(), 4);
+    let (times, quality, paths, pct) = (&tables[0], &tables[1], &tables[2], &tables[3]);
     let row = "scene A / P1";
     assert_eq!(times.cell(row, "runs"), Some("3"));
     assert_eq!(times.cell(row, "success %"), Some("66.7"));
     assert_eq!(times.cell(row, "setup [ms]"), Some("500.00"));
     // Planning times 1, 3, 8 ms: mean 4, median 3.
-    assert_eq!(times.cell(row, "planning [ms]"), Some("4.00"));
-    assert_eq!(times.cell(row, "planning p50 [ms]"), Some("3.00"));
-    assert_eq!(times.cell(row, "post-proc. [ms]"), Some("100.00"));
+    assert_eq!(times.cell(row, "plan [ms]"), Some("4.00"));
+    assert_eq!(times.cell(row, "plan p50 [ms]"), Some("3.00"));
+    assert_eq!(times.cell(row, "post [ms]"), Some("100.00"));
     // Run 1's planned path is invalid: 50 % valid planned, 100 % post-processed.
     assert_eq!(quality.cell(row, "valid P %"), Some("50.0"));
     assert_eq!(quality.cell(row, "valid PP %"), Some("100.0"));
     // Lengths: planned 2 and 4 (mean 3), processed 1 and 2 (mean 1.5).
-    assert_eq!(quality.cell(row, "length P"), Some("3.000"));
-    assert_eq!(quality.cell(row, "length PP"), Some("1.500"));
-    assert_eq!(quality.cell(row, "clearance P [mm]"), Some("200.0"));
-    assert_eq!(quality.cell(row, "clearance PP [mm]"), Some("100.0"));
-    assert_eq!(quality.cell(row, "EE length P [m]"), Some("-"));
+    assert_eq!(paths.cell(row, "length P"), Some("3.000"));
+    assert_eq!(paths.cell(row, "length PP"), Some("1.500"));
+    assert_eq!(paths.cell(row, "clear. P [mm]"), Some("200.0"));
+    assert_eq!(paths.cell(row, "clear. PP [mm]"), Some("100.0"));
+    assert_eq!(paths.cell(row, "EE P [m]"), Some("-"));
     // Percentiles of the planning time (linear interpolation): p25 of [1, 3, 8] = 2.
-    let r = pct.rows.iter().find(|r| r[1] == "planning time [ms]").unwrap();
+    let r = pct.rows.iter().find(|r| r[1] == "plan [ms]").unwrap();
     assert_eq!(r[2..], ["3", "1.00", "2.00", "3.00", "5.50", "7.50", "8.00"].map(String::from));
 
     // The high-score units: one per grasp cell, one per motion scene × planner.

@@ -39,8 +39,8 @@ pub fn grasp_tables(g: &GraspSection) -> Vec<Table> {
                 headers.push(format!("{a} held"));
             }
             if with_paper(p) {
-                headers.push(format!("{a} paper n"));
-                headers.push(format!("{a} paper FC%"));
+                headers.push(format!("{a} p.n"));
+                headers.push(format!("{a} p.FC%"));
             }
         }
         let mut rows = Vec::new();
@@ -114,9 +114,7 @@ pub fn grasp_tables(g: &GraspSection) -> Vec<Table> {
             legend.push("held: of the force-closure palm grasps simulated in rapier, those that kept the object in all six gravity directions (held/simulated).".into());
         }
         if hand_planners.iter().any(|p| with_paper(p)) {
-            legend.push(
-                "paper n, paper FC%: the OpenGRASP paper's numbers for the same hand, object and planner.".into(),
-            );
+            legend.push("p.n, p.FC%: the OpenGRASP paper's n and FC% for the same hand, object and planner.".into());
         }
         let abbreviated: Vec<String> = hand_planners
             .iter()

@@ -104,7 +104,9 @@ impl Table {
                     let _ = writeln!(out, "{}", fmt_row(r));
                 }
                 for l in &self.legend {
-                    let _ = writeln!(out, "  {l}");
+                    for line in wrap(l, LEGEND_WIDTH) {
+                        let _ = writeln!(out, "  {line}");
+                    }
                 }
             }
             Format::Markdown => {
@@ -141,6 +143,26 @@ impl Table {
         }
         out
     }
+}
+
+/// Width (characters) legends are wrapped to in [`Format::Table`], so a report fits 120 columns.
+const LEGEND_WIDTH: usize = 116;
+
+/// `text` wrapped at spaces into lines of at most `width` characters (longer words stay whole).
+fn wrap(text: &str, width: usize) -> Vec<String> {
+    let mut lines = vec![String::new()];
+    for word in text.split_whitespace() {
+        let line = lines.last_mut().expect("never empty");
+        if !line.is_empty() && line.chars().count() + 1 + word.chars().count() > width {
+            lines.push(word.to_string());
+        } else {
+            if !line.is_empty() {
+                line.push(' ');
+            }
+            line.push_str(word);
+        }
+    }
+    lines
 }
 
 /// The CSV header of [`Format::Csv`].

@@ -11,8 +11,8 @@ pub fn motion_tables(m: &MotionSection) -> Vec<Table> {
     let summaries = motion_summaries(m);
     let strings = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<String>>();
     let pct_or_dash = |solved: usize, v: f64| if solved == 0 { "-".to_string() } else { format!("{v:.1}") };
-    let mut time_rows = Vec::new();
-    let mut quality_rows = Vec::new();
+    let cont = |solved: usize, v: Option<f64>| v.filter(|_| solved > 0).map_or("-".into(), |v| format!("{v:.1}"));
+    let (mut time_rows, mut validity_rows, mut path_rows) = (Vec::new(), Vec::new(), Vec::new());
     for s in &summaries {
         let label = format!("{} / {}", s.scene, s.planner);
         time_rows.push(vec![
@@ -24,13 +24,17 @@ pub fn motion_tables(m: &MotionSection) -> Vec<Table> {
             opt(s.planning_time.p50, 1e3, 2),
             opt(s.postprocessing_time.mean, 1e3, 2),
         ]);
-        quality_rows.push(vec![
-            label,
+        validity_rows.push(vec![
+            label.clone(),
             pct_or_dash(s.solved, s.valid_planned.discrete),
             pct_or_dash(s.solved, s.valid_processed.discrete),
             pct_or_dash(s.solved, s.valid_planned.strict),
             pct_or_dash(s.solved, s.valid_processed.strict),
-            s.valid_processed.continuous.filter(|_| s.solved > 0).map_or("-".into(), |v| format!("{v:.1}")),
+            cont(s.solved, s.valid_planned.continuous),
+            cont(s.solved, s.valid_processed.continuous),
+        ]);
+        path_rows.push(vec![
+            label,
             opt(s.length_planned.mean, 1.0, 3),
             opt(s.length_processed.mean, 1.0, 3),
             opt(s.ee_length_planned.mean, 1.0, 3),
@@ -44,86 +48,93 @@ pub fn motion_tables(m: &MotionSection) -> Vec<Table> {
     if with_paper {
         let t = &PAPER_TABLE_III;
         let label = format!("{PAPER_SCENE_1} / paper");
-        time_rows.push(vec![
+        let dash = || "-".to_string();
+        let ms = |v: f64| format!("{:.2}", v * 1e3);
+        time_rows.push(vec![label.clone(), dash(), dash(), ms(t.setup), ms(t.planning), dash(), ms(t.postprocessing)]);
+        let pct = |v: f64| format!("{v:.1}");
+        validity_rows.push(vec![
             label.clone(),
-            "-".into(),
-            "-".into(),
-            format!("{:.2}", t.setup * 1e3),
-            format!("{:.2}", t.planning * 1e3),
-            "-".into(),
-            format!("{:.2}", t.postprocessing * 1e3),
+            dash(),
+            dash(),
+            pct(t.valid_planned),
+            pct(t.valid_processed),
+            dash(),
+            dash(),
         ]);
-        quality_rows.push(vec![
+        path_rows.push(vec![
             label,
-            "-".into(),
-            "-".into(),
-            format!("{:.1}", t.valid_planned),
-            format!("{:.1}", t.valid_processed),
-            "-".into(),
             format!("{:.3}", t.length_planned),
             format!("{:.3}", t.length_processed),
-            "-".into(),
-            "-".into(),
+            dash(),
+            dash(),
             format!("{:.1}", t.clearance_planned),
             format!("{:.1}", t.clearance_processed),
         ]);
     }
     let protocol = format!("Protocol: {}.", m.options.protocol.description());
+    let paper_row = with_paper.then(|| {
+        format!("The row '{PAPER_SCENE_1} / paper' is the OpenGRASP paper's Table III (its reference planner).")
+    });
+    let with_notes = |mut legend: Vec<String>| {
+        legend.push(protocol.clone());
+        legend.extend(paper_row.clone());
+        legend
+    };
     let table3_time = Table {
-        title: "Table III: motion planners, times (means over runs; post-proc. = post-processing)".into(),
+        title: "Table III: motion planners, times (means over runs)".into(),
         headers: strings(&[
             "scene / planner",
             "runs",
             "success %",
             "setup [ms]",
-            "planning [ms]",
-            "planning p50 [ms]",
-            "post-proc. [ms]",
+            "plan [ms]",
+            "plan p50 [ms]",
+            "post [ms]",
         ]),
         rows: time_rows,
-        legend: vec![
-            "success %: runs that found a path; times are means over runs (p50: median planning time).".into(),
-            "setup: the planner's setup (e.g. a PRM roadmap; under the paper protocol also loading the scene); \
-             post-proc.: repair, shortcutting and certification of the path."
+        legend: with_notes(vec![
+            "success %: runs that found a path; plan: planning time (p50: median); setup: the planner's setup (e.g. a \
+             PRM roadmap; under the paper protocol also loading the scene); post: post-processing (repair, \
+             shortcutting, certification)."
                 .into(),
-            protocol.clone(),
-        ]
-        .into_iter()
-        .chain(with_paper.then(|| {
-            format!("The row '{PAPER_SCENE_1} / paper' is the OpenGRASP paper's Table III (its reference planner).")
-        }))
-        .collect(),
+        ]),
     };
-    let table3_quality = Table {
-        title: "Table III: motion planners, solutions (P = planned, PP = post-processed; means over solved runs)"
-            .into(),
+    let table3_validity = Table {
+        title: "Table III: motion planners, valid paths (% of solved runs)".into(),
         headers: strings(&[
             "scene / planner",
             "valid P %",
             "valid PP %",
             "strict P %",
             "strict PP %",
+            "cont. P %",
             "cont. PP %",
+        ]),
+        rows: validity_rows,
+        legend: with_notes(vec![format!(
+            "P: planned path, PP: post-processed path. valid: discrete check at the planning step ({}); strict: at the \
+             fine step ({}); cont.: certified continuous check (conservative advancement), where the checker \
+             supports it; -: no data. The paper's 'Valid' is its fine re-check (the strict columns).",
+            m.options.validation.step, m.options.validation.strict_step
+        )]),
+    };
+    let table3_paths = Table {
+        title: "Table III: motion planners, paths (means over solved runs)".into(),
+        headers: strings(&[
+            "scene / planner",
             "length P",
             "length PP",
-            "EE length P [m]",
-            "EE length PP [m]",
-            "clearance P [mm]",
-            "clearance PP [mm]",
+            "EE P [m]",
+            "EE PP [m]",
+            "clear. P [mm]",
+            "clear. PP [mm]",
         ]),
-        rows: quality_rows,
-        legend: vec![
-            "P: planned path, PP: post-processed path; % of solved runs.".into(),
-            format!(
-                "valid: discrete check at the planning step ({}); strict: at the fine step ({}); cont.: certified \
-                 continuous check (conservative advancement), where the checker supports it.",
-                m.options.validation.step, m.options.validation.strict_step
-            ),
-            "length: C-space path length (rad for revolute joints); EE length: end-effector path (m); clearance: \
-             mean distance to obstacles along the path (mm). The paper's 'Valid' is its fine re-check (strict column)."
+        rows: path_rows,
+        legend: with_notes(vec![
+            "length: C-space path length (rad for revolute joints); EE: end-effector path length; clear.: mean \
+             distance to obstacles along the path."
                 .into(),
-            protocol,
-        ],
+        ]),
     };
     let mut headers = vec!["scene / planner".to_string(), "metric".to_string()];
     headers.extend(["n", "min", "p25", "median", "p75", "p95", "max"].iter().map(|s| s.to_string()));
@@ -142,9 +153,9 @@ pub fn motion_tables(m: &MotionSection) -> Vec<Table> {
                 opt(st.max, scale, prec),
             ]
         };
-        rows.push(stat_row("planning time [ms]", &s.planning_time, 1e3, 2));
-        rows.push(stat_row("post-proc. time [ms]", &s.postprocessing_time, 1e3, 2));
-        rows.push(stat_row("length post-proc.", &s.length_processed, 1.0, 3));
+        rows.push(stat_row("plan [ms]", &s.planning_time, 1e3, 2));
+        rows.push(stat_row("post [ms]", &s.postprocessing_time, 1e3, 2));
+        rows.push(stat_row("length PP", &s.length_processed, 1.0, 3));
     }
     let percentiles = Table {
         title: "Motion planners: percentiles".into(),
@@ -152,7 +163,7 @@ pub fn motion_tables(m: &MotionSection) -> Vec<Table> {
         rows,
         legend: vec!["n: runs with a value (solved runs for path metrics); p25, p75, p95: percentiles.".into()],
     };
-    let mut tables = vec![table3_time, table3_quality, percentiles];
+    let mut tables = vec![table3_time, table3_validity, table3_paths, percentiles];
     if !m.episodes.is_empty() {
         tables.push(episode_table(m));
     }
