@@ -3,18 +3,18 @@
 //! Tests talk to 127.0.0.1 only, are bounded in connections and time, and assert survival and
 //! correctness, never timings.
 
+mod common;
+
+use common::{cell, grasp_file, motion_file, run};
 use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpStream};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
-use opengrasp_bench::results::{GraspRecord, GraspSection, MotionSection, PlannerInfo, Provenance, ResultsFile};
-use opengrasp_grasp::benchmark::CellResult;
+use opengrasp_bench::results::ResultsFile;
 use opengrasp_highscore::{self as highscore, HighscoreError, ServerOptions, Store, Submission, Submitter};
-use opengrasp_motion::benchmark::{BenchmarkOptions, PathReport, RunRecord, RunStatus};
-use opengrasp_motion::metrics::PathMetrics;
-use opengrasp_motion::validate::PathValidity;
+use opengrasp_motion::benchmark::RunRecord;
 
 struct TempDb(PathBuf);
 
@@ -38,104 +38,6 @@ impl Drop for TempDb {
     }
 }
 
-fn provenance() -> Provenance {
-    let mut p = Provenance::collect("custom", 1);
-    p.git_commit = None;
-    p
-}
-
-fn cell(planner: &str, object: &str, palm: usize, fc: usize, eps: f64) -> GraspRecord {
-    GraspRecord {
-        seed: 7,
-        cell: CellResult {
-            planner: planner.into(),
-            hand: "barrett".into(),
-            object: object.into(),
-            generated: palm + 5,
-            evaluated: palm + 5,
-            closed: palm,
-            palm_contact: palm,
-            force_closure_palm: fc,
-            force_closure: fc,
-            fc_percent_palm: if palm == 0 { 0.0 } else { 100.0 * fc as f64 / palm as f64 },
-            fc_percent_all: 100.0 * fc as f64 / (palm + 5) as f64,
-            mean_epsilon: eps,
-            median_epsilon: eps,
-            physics_tested: 0,
-            physics_held: 0,
-            planning_seconds: 0.01,
-            evaluation_seconds: 0.02,
-            evaluations_per_second: 100.0,
-            candidates: vec![],
-        },
-    }
-}
-
-fn grasp_file(cells: Vec<GraspRecord>) -> ResultsFile {
-    let mut f = ResultsFile::new(provenance());
-    f.grasp = Some(GraspSection {
-        seed: 7,
-        hands: vec!["barrett".into()],
-        objects: vec![],
-        max_candidates: None,
-        planners: vec![PlannerInfo { name: "alpha".into(), parameters: "Alpha { step: 0.1 }".into() }],
-        cells,
-    });
-    f
-}
-
-fn report() -> PathReport {
-    PathReport {
-        validity: PathValidity { discrete: true, strict: true, continuous: Some(true) },
-        metrics: PathMetrics {
-            waypoints: 3,
-            length: 2.5,
-            ee_length: None,
-            clearance_mean: Some(0.1),
-            clearance_min: Some(0.05),
-            smoothness: 0.5,
-        },
-    }
-}
-
-fn run(i: usize, time: f64) -> RunRecord {
-    RunRecord {
-        planner: "fast".into(),
-        scene: "planar post".into(),
-        run: i,
-        seed: i as u64,
-        status: RunStatus::Solved,
-        message: None,
-        setup_time: 0.0,
-        planning_time: time,
-        postprocessing_time: Some(0.01),
-        planning_checks: 100,
-        postprocessing_checks: 10,
-        iterations: Some(50),
-        shortcuts: Some(1),
-        repaired_segments: Some(0),
-        unrepaired_segments: Some(0),
-        planned: Some(report()),
-        processed: Some(report()),
-        final_state: Some(vec![0.0, 0.0]),
-        ik_position_error: None,
-        ik_orientation_error: None,
-    }
-}
-
-fn motion_file(runs: Vec<RunRecord>) -> ResultsFile {
-    let mut f = ResultsFile::new(provenance());
-    f.motion = Some(MotionSection {
-        options: BenchmarkOptions { runs: 4, ..BenchmarkOptions::default() },
-        scenes: vec!["planar post".into()],
-        planners: vec![PlannerInfo { name: "fast".into(), parameters: "defaults".into() }],
-        runs,
-        summaries: vec![],
-        episodes: vec![],
-    });
-    f
-}
-
 fn check(f: &ResultsFile) -> highscore::Result<Submission> {
     // Serialise without the file's own validation so implausible values reach the board.
     Submission::from_json(&serde_json::to_string(f).expect("json"), Submitter::new("ann"))
@@ -152,24 +54,28 @@ fn rejected(what: &str, f: &ResultsFile, field_part: &str) {
 
 #[test]
 fn gaming_values_are_rejected() {
-    let good_runs = || (0..4).map(|i| run(i, 0.1 + i as f64 * 0.01)).collect::<Vec<_>>();
+    let good_runs = || (0..4).map(|i| fast_run(i, 0.1 + i as f64 * 0.01)).collect::<Vec<_>>();
     check(&motion_file(good_runs())).expect("a plausible motion file");
-    check(&grasp_file(vec![cell("alpha", "cup", 10, 5, 0.1)])).expect("a plausible grasp file");
+    check(&grasp_file(vec![cell("alpha", "barrett", "cup", 10, 5, 0.1)])).expect("a plausible grasp file");
 
-    rejected("epsilon 1e300", &grasp_file(vec![cell("alpha", "cup", 10, 5, 1e300)]), "mean_epsilon");
-    rejected("epsilon above the bound", &grasp_file(vec![cell("alpha", "cup", 10, 5, 1.2)]), "mean_epsilon");
-    rejected("epsilon without force closure", &grasp_file(vec![cell("alpha", "cup", 10, 0, 0.3)]), "epsilon");
-    let mut pct = grasp_file(vec![cell("alpha", "cup", 10, 5, 0.1)]);
+    rejected("epsilon 1e300", &grasp_file(vec![cell("alpha", "barrett", "cup", 10, 5, 1e300)]), "mean_epsilon");
+    rejected("epsilon above the bound", &grasp_file(vec![cell("alpha", "barrett", "cup", 10, 5, 1.2)]), "mean_epsilon");
+    rejected(
+        "epsilon without force closure",
+        &grasp_file(vec![cell("alpha", "barrett", "cup", 10, 0, 0.3)]),
+        "epsilon",
+    );
+    let mut pct = grasp_file(vec![cell("alpha", "barrett", "cup", 10, 5, 0.1)]);
     pct.grasp.as_mut().unwrap().cells[0].cell.fc_percent_palm = 90.0;
     rejected("fc_percent_palm disagrees with the counts", &pct, "fc_percent_palm");
     rejected(
         "the same cell twice",
-        &grasp_file(vec![cell("alpha", "cup", 10, 5, 0.1), cell("alpha", "cup", 10, 5, 0.1)]),
+        &grasp_file(vec![cell("alpha", "barrett", "cup", 10, 5, 0.1), cell("alpha", "barrett", "cup", 10, 5, 0.1)]),
         "grasp.cells[1]",
     );
 
-    rejected("all planning times 0", &motion_file((0..4).map(|i| run(i, 0.0)).collect()), "planning_time");
-    let copied: Vec<RunRecord> = (0..500).map(|_| run(0, 0.1)).collect();
+    rejected("all planning times 0", &motion_file((0..4).map(|i| fast_run(i, 0.0)).collect()), "planning_time");
+    let copied: Vec<RunRecord> = (0..500).map(|_| fast_run(0, 0.1)).collect();
     rejected("one run copied 500 times", &motion_file(copied), "motion.runs[1].run");
     rejected("incomplete runs", &motion_file(good_runs()[..3].to_vec()), "motion.runs");
     let mut seeds = good_runs();
@@ -237,7 +143,7 @@ fn uploads_need_a_token_are_verbatim_and_idempotent() {
     let addr = server.addr();
     let (_, token) = Store::open(&t.db()).unwrap().issue_token("H2T").unwrap();
     // Odd spacing and key order: kept byte for byte.
-    let results = format!("  {}  ", grasp_file(vec![cell("alpha", "cup", 10, 5, 0.1)]).to_json().unwrap());
+    let results = format!("  {}  ", grasp_file(vec![cell("alpha", "barrett", "cup", 10, 5, 0.1)]).to_json().unwrap());
     let body = format!(r#"{{"submitter": "ann", "results": {results}}}"#);
 
     let (status, head, _) = post(addr, None, &body);
@@ -263,7 +169,7 @@ fn uploads_need_a_token_are_verbatim_and_idempotent() {
     assert_eq!(r["entries"][0]["team"], "H2T", "the team comes from the token");
 
     // The command-line client against the same server.
-    let file = grasp_file(vec![cell("alpha", "cup", 12, 5, 0.1)]).to_json().unwrap();
+    let file = grasp_file(vec![cell("alpha", "barrett", "cup", 12, 5, 0.1)]).to_json().unwrap();
     let who = Submitter::new("carl");
     let answer = highscore::client::upload(&format!("http://{addr}"), &token, &who, &file).expect("upload");
     assert!(!answer.duplicate && answer.benchmarks == ["grasp/barrett"]);
@@ -410,4 +316,9 @@ fn fd_exhaustion_is_survived() {
     drop(child.stdin.take());
     let status = child.wait().unwrap();
     assert!(status.success(), "child ended with {status}");
+}
+
+/// A solved run of the planner `fast` on the planar post in `time` s, valid after post-processing.
+fn fast_run(i: usize, time: f64) -> RunRecord {
+    run("fast", "planar post", i, true, time, true)
 }
