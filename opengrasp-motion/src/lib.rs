@@ -74,6 +74,7 @@ pub mod error;
 pub mod metrics;
 pub mod planners;
 pub mod problem;
+pub mod problem_set;
 pub mod smoothing;
 pub mod validate;
 pub mod validity;
