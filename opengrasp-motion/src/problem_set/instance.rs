@@ -236,6 +236,11 @@ impl LoadedProblemSet {
         self.problems.get(i).map(|p| p.name.as_str())
     }
 
+    /// The goal of problem `i`, or `None` past the end.
+    pub fn goal(&self, i: usize) -> Option<&Goal> {
+        self.problems.get(i).map(|p| &p.goal)
+    }
+
     /// Problem `i` as a scene instance: the robot at the base pose among the problem's
     /// obstacles, validated by the exact [`CollisionChecker`] (the problem's allowed pairs
     /// added to the robot's).
