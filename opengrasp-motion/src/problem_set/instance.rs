@@ -1,6 +1,5 @@
 //! A problem set with its robot loaded: problems as benchmark scene instances.
 
-use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use nalgebra::Isometry3;
@@ -170,17 +169,10 @@ impl LoadedProblemSet {
                 Ok(v.clone())
             }
             Configuration::Named(m) => {
-                let names: BTreeMap<usize, &str> = self
-                    .group
-                    .dofs()
-                    .iter()
-                    .enumerate()
-                    .map(|(k, &d)| (k, robot.joints()[robot.dof_joint(d).0].name.as_str()))
-                    .collect();
                 let mut out = Vec::with_capacity(self.group.len());
-                for name in names.values() {
+                for name in self.group.dofs().iter().map(|&d| robot.joints()[robot.dof_joint(d).0].name.as_str()) {
                     let v =
-                        m.get(*name).ok_or_else(|| set.invalid(field, format!("no value for group joint `{name}`")))?;
+                        m.get(name).ok_or_else(|| set.invalid(field, format!("no value for group joint `{name}`")))?;
                     out.push(*v);
                 }
                 for (name, &v) in m {
