@@ -23,6 +23,7 @@ use std::sync::Mutex;
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use crate::bench::problem_sets::load_problem_sets;
 use crate::bench::stock;
 use crate::report::{self, Format};
 use crate::results::{Category, Error, Result, ResultsFile};
@@ -162,6 +163,12 @@ pub struct RunArgs {
     /// `opengrasp::core::object`). Default: the size's objects.
     #[arg(long = "object", value_name = "NAME|PATH")]
     pub objects: Vec<String>,
+    /// Motion problem sets to benchmark instead of the kitchen scenes (repeatable): a JSON
+    /// problem-set file, a MotionBenchMaker set directory (`sceneNNNN.yaml` +
+    /// `requestNNNN.yaml`, robot found by name up the tree) or a directory of such sets. Run
+    /// `r` plans problem `r`; `--runs` defaults to the largest set's size.
+    #[arg(long = "problems", value_name = "PATH")]
+    pub problems: Vec<PathBuf>,
     /// Motion runs per planner per scene (default: the size's).
     #[arg(long)]
     pub runs: Option<usize>,
@@ -317,10 +324,27 @@ pub const MAX_REPORT_BYTES: usize = 512 * 1024 * 1024;
 /// or zero jobs; [`Error::Core`] for a hand or object file that does not load.
 pub fn build_suite(args: &RunArgs) -> Result<Suite> {
     let size = SuiteSize::from(args.size);
-    let mut suite = match args.which {
-        Which::Grasp => Suite::new().with_reference_grasp(size),
-        Which::Motion => Suite::new().with_reference_motion(size),
-        Which::All => Suite::standard(size),
+    let mut suite = if args.problems.is_empty() {
+        match args.which {
+            Which::Grasp => Suite::new().with_reference_grasp(size),
+            Which::Motion => Suite::new().with_reference_motion(size),
+            Which::All => Suite::standard(size),
+        }
+    } else {
+        let mut sets = Vec::new();
+        for path in &args.problems {
+            sets.extend(load_problem_sets(path)?);
+        }
+        match args.which {
+            Which::Grasp => {
+                return Err(Error::InvalidOption {
+                    name: "problems",
+                    reason: "motion problem sets need `run motion` or `run all`".into(),
+                })
+            }
+            Which::Motion => Suite::new().labelled(size.name()).with_problem_sets(sets, args.seed),
+            Which::All => Suite::new().with_reference_grasp(size).with_problem_sets(sets, args.seed),
+        }
     };
     suite = suite.seed(args.seed);
     if !args.hands.is_empty() {

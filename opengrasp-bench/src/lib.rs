@@ -7,6 +7,7 @@
 //! - [`suite`]: the [`Suite`](suite::Suite) builder (planners, hands, objects, scenes, sizes);
 //! - [`scenes`] and [`clean_table`]: the standard motion scenes on the stock kitchen and
 //!   humanoid (scenes 1 and 2, their 7-DoF stand-ins, and scene 3, Clean the Table);
+//! - [`problem_sets`]: motion problem sets from files (JSON, MotionBenchMaker) as scenes;
 //! - [`stock`]: the stock hands and objects by name, user ones by path;
 //! - [`paper`]: the OpenGRASP paper's published figures;
 //! - [`results`]: results files with provenance, written atomically and validated on load;
@@ -49,6 +50,7 @@ pub mod ompl;
 pub mod paper;
 #[cfg(feature = "plots")]
 pub mod plots;
+pub mod problem_sets;
 pub mod report;
 pub mod results;
 pub mod scenes;

@@ -66,6 +66,43 @@ pub enum MotionError {
     /// Building a scene's world (robot, obstacles, objects) failed.
     #[error("cannot build the scene: {0}")]
     Scene(#[source] Box<dyn std::error::Error + Send + Sync>),
+    /// A problem-set file (JSON problem set, MoveIt scene or request) cannot be read.
+    #[error("cannot read problem set {path}: {source}")]
+    ProblemSetIo {
+        /// The file or directory.
+        path: std::path::PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// A problem-set file is larger than the loader accepts.
+    #[error("problem set {path} has {actual} bytes, more than the limit of {limit}")]
+    ProblemSetTooLarge {
+        /// The file.
+        path: std::path::PathBuf,
+        /// The limit (bytes).
+        limit: u64,
+        /// The file's size (bytes).
+        actual: u64,
+    },
+    /// A problem-set file is not valid JSON / YAML, or not of the expected shape.
+    #[error("malformed problem set {path}: {reason}")]
+    ProblemSetSyntax {
+        /// The file.
+        path: std::path::PathBuf,
+        /// The parser's message (with line and column).
+        reason: String,
+    },
+    /// A problem set is well-formed but describes something invalid (a negative size, an
+    /// unknown joint, a start of the wrong length, an unsupported shape, no robot, ...).
+    #[error("invalid problem set {path}: {field}: {reason}")]
+    ProblemSetInvalid {
+        /// The file (or directory) of the set.
+        path: std::path::PathBuf,
+        /// The offending field, e.g. `problems[3].obstacles[1].size`.
+        field: String,
+        /// What is wrong.
+        reason: String,
+    },
     /// A user planner's own error.
     #[error("planner error: {0}")]
     Other(Box<dyn std::error::Error + Send + Sync>),

@@ -8,6 +8,11 @@
 //!   [`PlanningProblem`] it receives (robot, joint group, start, [`Goal`] — a configuration, a
 //!   set of configurations or a pose reached through IK — validity checker, time limit, seed,
 //!   discrete step) and the [`Solution`] it returns.
+//!   [`PlanningProblem::builder`] fills the defaults (joints outside the group at home, 10 s,
+//!   seed 0, step 0.02): no full configuration when the group covers every joint.
+//! - [`problem_set`]: motion problem sets from files — a documented JSON format (robot URDF +
+//!   SRDF + group, obstacles as boxes, spheres, cylinders, capsules and meshes with poses,
+//!   start, configuration or pose goals) and MotionBenchMaker's MoveIt scene + request YAML.
 //! - [`validity`]: the [`StateValidityChecker`] interface, its implementation over core's
 //!   parry-based collision world ([`validity::CollisionChecker`]), a closed-form sphere model
 //!   ([`validity::SphereWorld`]) and the per-link [`validity::MotionBound`] used for
@@ -76,6 +81,8 @@ pub mod error;
 pub mod metrics;
 pub mod planners;
 pub mod problem;
+pub mod problem_builder;
+pub mod problem_set;
 pub mod protocol;
 pub mod smoothing;
 pub mod validate;
@@ -83,4 +90,5 @@ pub mod validity;
 
 pub use error::{MotionError, Result};
 pub use problem::{Goal, MotionPlanner, PlanningProblem, PoseGoal, SetupContext, Solution};
+pub use problem_builder::ProblemBuilder;
 pub use validity::StateValidityChecker;

@@ -1,0 +1,90 @@
+//! Motion problem sets from files as benchmark scenes (`opengrasp run motion --problems PATH`).
+//!
+//! A set (JSON problem set or MotionBenchMaker directory, see
+//! [`opengrasp_motion::problem_set`]) becomes one [`BenchmarkScene`] named after the set:
+//! run *r* (seed `base_seed + r`) plans problem *r* of the set — the choice depends on the run
+//! index only, never on random draws, and runs past the set's size wrap around. The
+//! environment differs between problems, so it is not shared (planner setup runs per run).
+//! Every run is graded like the kitchen scenes' (validators, metrics, OMPL logs, reports).
+//!
+//! ```no_run
+//! use opengrasp_bench::problem_sets::load_problem_sets;
+//! use opengrasp_bench::suite::Suite;
+//!
+//! # fn main() -> opengrasp_bench::Result<()> {
+//! let sets = load_problem_sets("resources/panda/problems/table_pick_panda")?;
+//! let results = Suite::new().seed(0).with_problem_sets(sets, 0).run()?;
+//! println!("{} runs", results.motion.unwrap().runs.len());
+//! # Ok(())
+//! # }
+//! ```
+
+use std::path::Path;
+use std::sync::Arc;
+
+use opengrasp_motion::benchmark::BenchmarkScene;
+use opengrasp_motion::planners::{IkRrt, Prm, PrmOptions, RrtConnect};
+use opengrasp_motion::problem_set::{self, LoadedProblemSet};
+use opengrasp_motion::Goal;
+
+use crate::suite::Suite;
+use crate::Result;
+
+/// PRM roadmap size on problem sets (the roadmap is rebuilt every run, as on the kitchen's
+/// IK-based scene).
+pub const PROBLEM_SET_PRM_NODES: usize = 150;
+
+/// Loads the problem sets at `path` (a JSON problem-set file, an MBM set directory or a
+/// directory of MBM sets) with their robots.
+///
+/// # Errors
+/// The loader's errors ([`opengrasp_motion::MotionError`]'s `ProblemSet*` variants, robot
+/// loading errors) as [`crate::Error::Motion`].
+pub fn load_problem_sets(path: impl AsRef<Path>) -> Result<Vec<LoadedProblemSet>> {
+    let sets = problem_set::load(path)?;
+    Ok(sets.iter().map(LoadedProblemSet::new).collect::<opengrasp_motion::Result<_>>()?)
+}
+
+/// The benchmark scene of a loaded set: run `r` (seed `base_seed + r`) is problem
+/// `r mod len`.
+pub fn problem_set_scene(set: Arc<LoadedProblemSet>, base_seed: u64) -> BenchmarkScene {
+    BenchmarkScene {
+        name: set.name().to_string(),
+        shared_environment: false,
+        generate: Box::new(move |seed| {
+            let run = seed.wrapping_sub(base_seed);
+            let index = (run % set.len().max(1) as u64) as usize;
+            set.instance(index)
+        }),
+    }
+}
+
+fn has_pose_goals(set: &LoadedProblemSet) -> bool {
+    (0..set.len()).any(|i| matches!(set.goal(i), Some(Goal::Pose(_))))
+}
+
+impl Suite {
+    /// Adds the problem sets as motion scenes ([`problem_set_scene`], `base_seed` must be the
+    /// suite's seed) with the reference planners — RRT-Connect, PRM
+    /// ([`PROBLEM_SET_PRM_NODES`] nodes) and IK-RRT (on sets with pose goals only) — and sets
+    /// the runs to the largest set's size, so every problem is planned once per planner.
+    pub fn with_problem_sets(mut self, sets: Vec<LoadedProblemSet>, base_seed: u64) -> Self {
+        let runs = sets.iter().map(LoadedProblemSet::len).max().unwrap_or(0);
+        let names: Vec<String> = sets.iter().map(|s| s.name().to_string()).collect();
+        let pose_sets: Vec<String> = sets.iter().filter(|s| has_pose_goals(s)).map(|s| s.name().to_string()).collect();
+        let prm = PrmOptions { nodes: PROBLEM_SET_PRM_NODES, ..PrmOptions::default() };
+        self = self
+            .motion_planner_on(names.clone(), format!("{:?}", RrtConnect::default().options), || {
+                Box::new(RrtConnect::default())
+            })
+            .motion_planner_on(names, format!("{prm:?}"), move || Box::new(Prm::new(prm)));
+        if !pose_sets.is_empty() {
+            self = self
+                .motion_planner_on(pose_sets, format!("{:?}", IkRrt::default().options), || Box::new(IkRrt::default()));
+        }
+        for set in sets {
+            self = self.motion_scene(problem_set_scene(Arc::new(set), base_seed));
+        }
+        self.runs(runs)
+    }
+}
