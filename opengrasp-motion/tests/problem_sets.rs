@@ -330,3 +330,36 @@ fn problem_builder_needs_no_full_configuration_when_the_group_covers_every_joint
         .goal_configuration([0.0; 7]);
     assert!(matches!(bad.problem(), Err(MotionError::OutOfLimits { index: 0, .. })));
 }
+
+/// Planning-only survey of a full problem set from a user path (not vendored):
+/// `OPENGRASP_PROBLEMS=/path/to/problems/cage_panda cargo test -p opengrasp-motion --test
+/// problem_sets -- --ignored --nocapture`. Prints success, median and p95 planning time of
+/// RRT-Connect (10 s limit) over every problem; the full graded benchmark is
+/// `opengrasp run motion --problems PATH`.
+#[test]
+#[ignore = "needs OPENGRASP_PROBLEMS (a full MBM set or JSON problem set)"]
+fn planning_survey_of_a_user_problem_set() {
+    let Ok(path) = std::env::var("OPENGRASP_PROBLEMS") else { return };
+    for set in problem_set::load(path).unwrap() {
+        let loaded = LoadedProblemSet::new(&set).unwrap();
+        let mut times = Vec::new();
+        let mut solved = 0;
+        for i in 0..loaded.len() {
+            let inst = loaded.instance(i).unwrap();
+            let problem = inst.problem(&*inst.checker, Duration::from_secs(10), i as u64, DEFAULT_STEP);
+            let t = Instant::now();
+            let ok = RrtConnect::default().plan(&problem).is_ok();
+            times.push(t.elapsed().as_secs_f64());
+            solved += usize::from(ok);
+        }
+        times.sort_by(f64::total_cmp);
+        let pct = |p: f64| times[((times.len() - 1) as f64 * p).round() as usize] * 1e3;
+        println!(
+            "{}: {solved}/{} solved, planning median {:.1} ms, p95 {:.1} ms",
+            set.name,
+            times.len(),
+            pct(0.5),
+            pct(0.95)
+        );
+    }
+}
