@@ -339,7 +339,10 @@ fn problem_builder_needs_no_full_configuration_when_the_group_covers_every_joint
 #[test]
 #[ignore = "needs OPENGRASP_PROBLEMS (a full MBM set or JSON problem set)"]
 fn planning_survey_of_a_user_problem_set() {
-    let Ok(path) = std::env::var("OPENGRASP_PROBLEMS") else { return };
+    let Ok(path) = std::env::var("OPENGRASP_PROBLEMS") else {
+        eprintln!("SKIPPED planning_survey_of_a_user_problem_set: set OPENGRASP_PROBLEMS to an MBM set directory");
+        return;
+    };
     for set in problem_set::load(path).unwrap() {
         let loaded = LoadedProblemSet::new(&set).unwrap();
         let mut times = Vec::new();
