@@ -336,3 +336,34 @@ fn stock_layouts_fit_the_stock_hands() {
     let g = DSA_9335.geometry;
     assert!((g.width() - 0.0204).abs() < 1e-12 && (g.length() - 0.0476).abs() < 1e-12);
 }
+
+#[test]
+fn benchmark_records_compact_tactile_frames() {
+    use opengrasp_grasp::benchmark::{run_grasp_benchmark, CandidateRecord, GraspBenchmarkConfig, TactileRecording};
+    let object = ObjectModel::from_mesh("can", cylinder_mesh(0.03, 0.2, 48), 0.1, 0.8).unwrap();
+    let config = GraspBenchmarkConfig {
+        hands: vec![hands::sdh()],
+        objects: vec![object],
+        max_candidates: Some(6),
+        record_candidates: true,
+        tactile: Some(TactileRecording::default()),
+        ..Default::default()
+    };
+    let results = run_grasp_benchmark(&config).unwrap();
+    let records: Vec<&CandidateRecord> = results.cells.iter().flat_map(|c| &c.candidates).collect();
+    assert!(!records.is_empty());
+    let mut lit = 0;
+    for r in &records {
+        assert_eq!(r.tactile.is_some(), r.status == EvaluationStatus::Closed && r.contacts > 0);
+        if let Some(t) = &r.tactile {
+            assert_eq!(t.pads.len(), 6);
+            lit += usize::from(t.pads.iter().any(|p| !p.cells.is_empty()));
+        }
+    }
+    assert!(lit > 0, "no record has a lit pad");
+    // Files without the field still load.
+    let mut json: serde_json::Value = serde_json::to_value(records[0]).unwrap();
+    json.as_object_mut().unwrap().remove("tactile");
+    let old: CandidateRecord = serde_json::from_value(json).unwrap();
+    assert_eq!(old.tactile, None);
+}

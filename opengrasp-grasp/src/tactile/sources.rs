@@ -188,6 +188,41 @@ impl Default for TactileSeriesOptions {
     }
 }
 
+/// The simulation of [`physics_tactile_series`] before its first step: the hand fixed at the
+/// evaluated pose with its closing joints commanded `squeeze` beyond the closed configuration,
+/// the object free (its friction replacing the links'), gravity `options.gravity`. Returns the
+/// engine and the hand's robot id.
+///
+/// # Errors
+/// [`GraspError::Core`] from the simulator.
+pub fn squeeze_engine<E: PhysicsEngine>(
+    hand: &Hand,
+    object: &ObjectModel,
+    evaluation: &GraspEvaluation,
+    options: &TactileSeriesOptions,
+) -> Result<(E, RobotId)> {
+    let robot = hand.robot();
+    let q = &evaluation.q;
+    let fk = forward_kinematics(robot, q)?;
+    let base = evaluation.hand_pose * (fk.as_slice()[hand.palm().0] * hand.palm_frame()).inverse();
+    let mut target = q.clone();
+    for (d, &v) in hand.closing_velocity().iter().enumerate() {
+        if v != 0.0 {
+            target[d] += options.squeeze * v.signum();
+        }
+    }
+    robot.clamp_configuration(&mut target);
+    let mut scene = Scene::new("tactile series");
+    scene.add_object(object.to_scene_object(Isometry3::identity()))?;
+    let rid = scene.add_robot("hand", hand.robot_arc(), base)?;
+    scene.set_robot_configuration(rid, q)?;
+    let physics =
+        PhysicsOptions { gravity: options.gravity, link_friction: object.friction, ..options.physics.clone() };
+    let mut engine = E::from_scene(&scene, &physics)?;
+    engine.set_joint_position_targets(rid, &target)?;
+    Ok((engine, rid))
+}
+
 /// Squeezes an evaluated grasp in simulation on backend `E` (the hand fixed at its pose, the
 /// closing joints commanded `squeeze` beyond the closed configuration, the object free) and
 /// records the tactile frame every `every` steps: a tactile time series.
@@ -213,27 +248,9 @@ pub fn physics_tactile_series<E: PhysicsEngine>(
             reason: format!("squeeze {} must be >= 0 and every {} >= 1", options.squeeze, options.every),
         });
     }
-    let robot = hand.robot();
-    let q = &evaluation.q;
-    let fk = forward_kinematics(robot, q)?;
-    let base = evaluation.hand_pose * (fk.as_slice()[hand.palm().0] * hand.palm_frame()).inverse();
-    let mut target = q.clone();
-    for (d, &v) in hand.closing_velocity().iter().enumerate() {
-        if v != 0.0 {
-            target[d] += options.squeeze * v.signum();
-        }
-    }
-    robot.clamp_configuration(&mut target);
-    let mut scene = Scene::new("tactile series");
-    scene.add_object(object.to_scene_object(Isometry3::identity()))?;
-    let rid = scene.add_robot("hand", hand.robot_arc(), base)?;
-    scene.set_robot_configuration(rid, q)?;
-    let physics =
-        PhysicsOptions { gravity: options.gravity, link_friction: object.friction, ..options.physics.clone() };
-    let dt = physics.timestep;
+    let (mut engine, rid) = squeeze_engine::<E>(hand, object, evaluation, options)?;
+    let dt = options.physics.timestep;
     let steps = (options.duration / dt).ceil() as usize;
-    let mut engine = E::from_scene(&scene, &physics)?;
-    engine.set_joint_position_targets(rid, &target)?;
     let mut reader = PhysicsTactile::new();
     let mut frames = Vec::with_capacity(steps / options.every + 1);
     for k in 1..=steps {
