@@ -113,7 +113,7 @@ pub fn sdh_specs(prefix: &str) -> Vec<PadSpec> {
 }
 
 /// The Barrett BH8-262's optional tactile pads (all numbers nominal): a 3 × 8 pad at 5 mm
-/// pitch on the inner face of each distal phalanx (fingertip) and a 4 × 6 pad at 8 mm pitch on
+/// pitch on the inner face of each distal phalanx (fingertip, from its joint end) and a 4 × 6 pad at 8 mm pitch on
 /// the palm (24 cells each, as the BH8 tactile option), with [`BARRETT_CHARACTERISTIC`].
 pub fn barrett_specs(prefix: &str) -> Vec<PadSpec> {
     let tip = PadModel {
@@ -124,8 +124,9 @@ pub fn barrett_specs(prefix: &str) -> Vec<PadSpec> {
         geometry: PadGeometry { rows: 6, columns: 4, pitch: 0.008, curved_rows: 0, bend_radius: 0.0 },
         characteristic: BARRETT_CHARACTERISTIC,
     };
-    // Distal phalanx: 58 mm long, 16.2 mm thick, 10 mm joint gap; pad centred on the box.
-    let tip_z0 = 0.01 + 0.5 * (0.058 - 0.01) - 0.5 * tip.geometry.length();
+    // Distal phalanx: 58 mm long, 16.2 mm thick, 10 mm joint gap; the pad covers the inner
+    // face from the joint end (where a wrapped object meets the fingertip).
+    let tip_z0 = 0.01;
     let mut specs: Vec<PadSpec> = ["f1", "f2", "f3"]
         .iter()
         .map(|f| PadSpec {
