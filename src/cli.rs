@@ -183,9 +183,17 @@ pub struct RunArgs {
     #[arg(long)]
     pub physics: Option<usize>,
     /// Keep every evaluated grasp candidate (pose, preshape, approach, closed configuration,
-    /// contacts, force closure, epsilon, volume, physics outcome) in the results file.
+    /// contacts, force closure, epsilon, volume, physics outcome, tactile frame) in the results
+    /// file.
     #[arg(long)]
     pub grasps: bool,
+    /// With `--grasps`: do not store the grasps' static tactile frames (stored by default for
+    /// hands with tactile pads).
+    #[arg(long)]
+    pub no_tactile: bool,
+    /// Total finger normal force (N) of the static tactile frames (default 10).
+    #[arg(long)]
+    pub grip_force: Option<f64>,
     /// Clean the Table episodes per motion planner (default: the size's, 0 for `tiny`, 1 for
     /// `default`, 5 for `paper`).
     #[arg(long)]
@@ -372,6 +380,13 @@ pub fn build_suite(args: &RunArgs) -> Result<Suite> {
     }
     if args.grasps {
         suite = suite.record_grasps(true);
+        if !args.no_tactile {
+            let mut tactile = opengrasp_grasp::benchmark::TactileRecording::default();
+            if let Some(g) = args.grip_force {
+                tactile.grip_force = g;
+            }
+            suite = suite.record_tactile(Some(tactile));
+        }
     }
     if let Some(e) = args.episodes {
         suite = suite.clean_the_table(e);

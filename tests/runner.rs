@@ -753,6 +753,17 @@ fn run_grasp_with_physics_checks_end_to_end() {
         assert!(k.iter().all(|r| r.index < c.generated && r.epsilon >= 0.0 && r.volume >= 0.0));
     }
     assert_eq!(ResultsFile::load(&out).unwrap(), checked);
+    // --grasps also stores the static tactile frames (the Barrett hand's optional pads), and
+    // the report draws a heat map of each cell's best one.
+    let records: Vec<_> = cells.iter().flat_map(|r| &r.cell.candidates).collect();
+    assert!(records
+        .iter()
+        .any(|r| r.tactile.as_ref().is_some_and(|t| t.pads.len() == 4 && t.pads.iter().any(|p| !p.cells.is_empty()))));
+    let written = opengrasp::plots::plot_all(&checked, &dir.join("plots")).unwrap();
+    let heat: Vec<_> = written.iter().filter(|p| p.to_string_lossy().contains("tactile_")).collect();
+    assert!(!heat.is_empty(), "{written:?}");
+    let svg = std::fs::read_to_string(heat[0]).unwrap();
+    assert!(svg.starts_with("<svg") && svg.contains("f1_distal") && svg.contains("palm"));
     let unchecked = run("0");
     assert!(unchecked.grasp.as_ref().unwrap().cells.iter().all(|c| c.cell.physics_tested == 0));
     assert!(unchecked.grasp.as_ref().unwrap().cells.iter().all(|c| c.cell.candidates.is_empty()));

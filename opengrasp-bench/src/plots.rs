@@ -4,7 +4,9 @@
 //! - per scene, box plots per planner of the planning time and of the post-processed path
 //!   length (`motion_<scene>_planning_time.svg`, `motion_<scene>_length.svg`);
 //! - per hand, bars of the force-closure percentage per object and planner
-//!   (`grasp_<hand>_fc.svg`).
+//!   (`grasp_<hand>_fc.svg`);
+//! - per grasp cell with recorded tactile frames (`run --grasps`), a heat map of its best
+//!   grasp's frame, one panel per pad (`tactile_<hand>_<object>_<planner>.svg`, [`tactile`]).
 //!
 //! PNG output is not offered: plotters' bitmap text needs a font rasteriser and font files,
 //! which a CI machine with only the Rust toolchain lacks.
@@ -15,6 +17,9 @@ use opengrasp_motion::benchmark::RunRecord;
 use plotters::prelude::*;
 
 use crate::results::{Error, GraspSection, MotionSection, Result, ResultsFile};
+
+pub mod tactile;
+pub use tactile::{tactile_frame_svg, tactile_plots};
 
 const PALETTE: [RGBColor; 6] = [
     RGBColor(31, 119, 180),
@@ -227,6 +232,7 @@ pub fn plot_all(results: &ResultsFile, dir: &Path) -> Result<Vec<PathBuf>> {
     let mut written = Vec::new();
     if let Some(g) = &results.grasp {
         written.extend(grasp_plots(g, dir)?);
+        written.extend(tactile_plots(g, dir)?);
     }
     if let Some(m) = &results.motion {
         written.extend(motion_plots(m, dir)?);

@@ -56,12 +56,15 @@ use opengrasp_core::hand::Hand;
 use opengrasp_core::object::ObjectModel;
 use serde::{Deserialize, Serialize};
 
+use crate::contact::ObjectFrame;
 use crate::error::Result;
 use crate::evaluator::{EvaluationStatus, EvaluatorOptions, GraspEvaluator, PhysicsCheckOptions};
 use crate::planners::{
     GraspCandidate, GraspPlanner, GraspRequest, MedialAxisOptions, MedialAxisPlanner, SurfaceNormalOptions,
     SurfaceNormalPlanner,
 };
+use crate::tactile::sources::{evaluation_contacts, DEFAULT_GRIP_FORCE};
+use crate::tactile::{CompactFrame, PadSpec, TactileArray};
 
 /// Configuration of [`run_grasp_benchmark`].
 #[derive(Clone, Debug, Default)]
@@ -90,6 +93,41 @@ pub struct GraspBenchmarkConfig {
     /// Keep one [`CandidateRecord`] per evaluated candidate in [`CellResult::candidates`]
     /// (about 1.6 kB each in pretty JSON: 6.4 MB for the default suite). Default: false.
     pub record_candidates: bool,
+    /// With [`GraspBenchmarkConfig::record_candidates`], also store each closed candidate's
+    /// static tactile frame in [`CandidateRecord::tactile`] (hands with a pad layout only).
+    /// Default: `None` (no tactile frames).
+    pub tactile: Option<TactileRecording>,
+}
+
+/// How the benchmark records tactile frames ([`GraspBenchmarkConfig::tactile`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct TactileRecording {
+    /// Total normal force of the fingers (N) distributed over the contacts by the force-closure
+    /// solver ([`crate::tactile::sources::evaluation_contacts`]). Default:
+    /// [`DEFAULT_GRIP_FORCE`] (10 N, nominal).
+    pub grip_force: f64,
+    /// Pad layouts by hand name; hands not listed use their stock layout
+    /// ([`TactileArray::stock`]) if they are stock hands, else record nothing. Default: empty.
+    pub layouts: Vec<(String, Vec<PadSpec>)>,
+}
+
+impl Default for TactileRecording {
+    fn default() -> Self {
+        Self { grip_force: DEFAULT_GRIP_FORCE, layouts: Vec::new() }
+    }
+}
+
+impl TactileRecording {
+    /// The pads of `hand` (see [`TactileRecording::layouts`]), `None` if it has none.
+    ///
+    /// # Errors
+    /// A listed layout that does not fit the hand ([`TactileArray::from_specs`]).
+    pub fn array_for(&self, hand: &Hand) -> Result<Option<TactileArray>> {
+        match self.layouts.iter().find(|(name, _)| name == hand.name()) {
+            Some((_, specs)) => Ok(Some(TactileArray::from_specs(hand, specs)?)),
+            None => Ok(TactileArray::stock(hand)),
+        }
+    }
 }
 
 /// One evaluated candidate, for inspecting or re-scoring a planner's grasps.
@@ -119,6 +157,10 @@ pub struct CandidateRecord {
     pub volume: f64,
     /// Outcome of the physics hold check, if this grasp was simulated.
     pub physics_held: Option<bool>,
+    /// Static tactile frame of the closed grasp (nonzero raw cells per pad), if recorded
+    /// ([`GraspBenchmarkConfig::tactile`]); absent from older files.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tactile: Option<CompactFrame>,
 }
 
 /// Results of one planner × hand × object cell.
@@ -256,6 +298,10 @@ pub fn run_grasp_benchmark_with(
         for object in &config.objects {
             let mut evaluator = GraspEvaluator::new(hand, object, config.evaluator.clone())?;
             let info = evaluator.hand_info().clone();
+            let tactile = match &config.tactile {
+                Some(t) if config.record_candidates => t.array_for(hand)?.map(|a| (a, t.grip_force)),
+                _ => None,
+            };
             for planner in planners {
                 let t0 = Instant::now();
                 let request = GraspRequest { hand: &info, object: &object.mesh, seed: config.seed };
@@ -298,11 +344,16 @@ pub fn run_grasp_benchmark_with(
                     }
                 }
                 let candidate_records = if config.record_candidates {
+                    let frames = match &tactile {
+                        Some((array, grip)) => tactile_frames(config, hand, object, &evaluations, array, *grip)?,
+                        None => vec![None; evaluations.len()],
+                    };
                     chosen
                         .iter()
                         .zip(&evaluations)
                         .zip(held_by_evaluation)
-                        .map(|((&i, e), held)| CandidateRecord {
+                        .zip(frames)
+                        .map(|(((&i, e), held), tactile)| CandidateRecord {
                             index: i,
                             candidate: candidates[i].clone(),
                             status: e.status,
@@ -315,6 +366,7 @@ pub fn run_grasp_benchmark_with(
                             epsilon: e.epsilon(),
                             volume: e.quality.map_or(0.0, |q| q.volume),
                             physics_held: held,
+                            tactile,
                         })
                         .collect()
                 } else {
@@ -361,4 +413,29 @@ pub fn run_grasp_benchmark_with(
             0.0
         },
     })
+}
+
+/// Static tactile frames of the closed evaluations (`None` for the others), with the contact
+/// model and object frame the evaluator uses.
+fn tactile_frames(
+    config: &GraspBenchmarkConfig,
+    hand: &Hand,
+    object: &ObjectModel,
+    evaluations: &[crate::evaluator::GraspEvaluation],
+    array: &TactileArray,
+    grip_force: f64,
+) -> Result<Vec<Option<CompactFrame>>> {
+    let frame = ObjectFrame::from_points(object.center_of_mass(), object.mesh.vertices())?;
+    let mut model = config.evaluator.quality.contact;
+    model.friction = config.evaluator.friction.unwrap_or(object.friction);
+    evaluations
+        .iter()
+        .map(|e| {
+            if e.status != EvaluationStatus::Closed || e.contacts.is_empty() {
+                return Ok(None);
+            }
+            let contacts = evaluation_contacts(hand, e, &frame, &model, grip_force)?;
+            Ok(Some(array.read(&contacts).compact(array)))
+        })
+        .collect()
 }

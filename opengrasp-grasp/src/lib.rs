@@ -18,6 +18,8 @@
 //!   contacts and grades them with the metrics above.
 //! * [`planners`]: the [`planners::GraspPlanner`] trait and the reference planners.
 //! * [`benchmark`]: runs planners × hands × objects through the one evaluator.
+//! * [`tactile`]: tactile matrix pads (Weiss DSA 9335 / 9330 presets) read from evaluator or
+//!   physics contacts.
 //!
 //! Bad input never panics: non-finite values, invalid options and solver failures are
 //! [`GraspError`]s, and degenerate grasps (no contacts, one contact, wrench sets of rank
@@ -64,6 +66,7 @@ pub mod error;
 pub mod evaluator;
 pub mod planners;
 pub mod quality;
+pub mod tactile;
 
 pub use contact::{Contact, ContactModel, ContactType, GraspWrenchSpace, ObjectFrame, Wrench};
 pub use error::{GraspError, Result};

@@ -385,6 +385,14 @@ impl Suite {
         self
     }
 
+    /// With [`Suite::record_grasps`], also stores each closed grasp's static tactile frame
+    /// (hands with pads: the stock hands, or layouts given in `recording`;
+    /// [`GraspBenchmarkConfig::tactile`]); `None` records none (the default).
+    pub fn record_tactile(mut self, recording: Option<opengrasp_grasp::benchmark::TactileRecording>) -> Self {
+        self.grasp.tactile = recording;
+        self
+    }
+
     /// Sets the motion runs per planner per scene.
     pub fn runs(mut self, runs: usize) -> Self {
         self.motion.runs = runs;
