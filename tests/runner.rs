@@ -759,6 +759,10 @@ fn run_grasp_with_physics_checks_end_to_end() {
     assert!(records
         .iter()
         .any(|r| r.tactile.as_ref().is_some_and(|t| t.pads.len() == 4 && t.pads.iter().any(|p| !p.cells.is_empty()))));
+    // Physics-checked grasps carry a tactile time series (0.3 s, a frame every 25 ms).
+    for r in &records {
+        assert_eq!(r.tactile_series.len(), if r.physics_held.is_some() { 12 } else { 0 });
+    }
     let written = opengrasp::plots::plot_all(&checked, &dir.join("plots")).unwrap();
     let heat: Vec<_> = written.iter().filter(|p| p.to_string_lossy().contains("tactile_")).collect();
     assert!(!heat.is_empty(), "{written:?}");

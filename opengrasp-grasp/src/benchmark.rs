@@ -63,7 +63,7 @@ use crate::planners::{
     GraspCandidate, GraspPlanner, GraspRequest, MedialAxisOptions, MedialAxisPlanner, SurfaceNormalOptions,
     SurfaceNormalPlanner,
 };
-use crate::tactile::sources::{evaluation_contacts, DEFAULT_GRIP_FORCE};
+use crate::tactile::sources::{evaluation_contacts, physics_tactile_series, TactileSeriesOptions, DEFAULT_GRIP_FORCE};
 use crate::tactile::{CompactFrame, PadSpec, TactileArray};
 
 /// Configuration of [`run_grasp_benchmark`].
@@ -109,11 +109,16 @@ pub struct TactileRecording {
     /// Pad layouts by hand name; hands not listed use their stock layout
     /// ([`TactileArray::stock`]) if they are stock hands, else record nothing. Default: empty.
     pub layouts: Vec<(String, Vec<PadSpec>)>,
+    /// Also record a tactile time series of every physics-checked grasp
+    /// ([`CandidateRecord::tactile_series`], [`physics_tactile_series`] on rapier with these
+    /// options); `None` records none. Default: `Some(TactileSeriesOptions::default())` (0.3 s
+    /// of squeeze, a frame every 25 ms).
+    pub series: Option<TactileSeriesOptions>,
 }
 
 impl Default for TactileRecording {
     fn default() -> Self {
-        Self { grip_force: DEFAULT_GRIP_FORCE, layouts: Vec::new() }
+        Self { grip_force: DEFAULT_GRIP_FORCE, layouts: Vec::new(), series: Some(TactileSeriesOptions::default()) }
     }
 }
 
@@ -161,6 +166,10 @@ pub struct CandidateRecord {
     /// ([`GraspBenchmarkConfig::tactile`]); absent from older files.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tactile: Option<CompactFrame>,
+    /// Tactile time series of the physics-checked grasp squeezing the object (gravity off), if
+    /// recorded ([`TactileRecording::series`]); absent from older files.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub tactile_series: Vec<CompactFrame>,
 }
 
 /// Results of one planner × hand × object cell.
@@ -333,6 +342,7 @@ pub fn run_grasp_benchmark_with(
                 };
                 let (mut physics_tested, mut physics_held) = (0, 0);
                 let mut held_by_evaluation = vec![None; evaluations.len()];
+                let mut series_by_evaluation = vec![Vec::new(); evaluations.len()];
                 if config.physics_per_cell > 0 && !fc_palm.is_empty() {
                     let m = config.physics_per_cell.min(fc_palm.len());
                     for j in 0..m {
@@ -341,6 +351,18 @@ pub fn run_grasp_benchmark_with(
                         physics_tested += 1;
                         physics_held += usize::from(outcome.held());
                         held_by_evaluation[k] = Some(outcome.held());
+                        if let (Some((array, _)), Some(options)) =
+                            (&tactile, config.tactile.as_ref().and_then(|t| t.series.as_ref()))
+                        {
+                            let series = physics_tactile_series::<opengrasp_core::physics::RapierBackend>(
+                                hand,
+                                object,
+                                &evaluations[k],
+                                array,
+                                options,
+                            )?;
+                            series_by_evaluation[k] = series.iter().map(|f| f.compact(array)).collect();
+                        }
                     }
                 }
                 let candidate_records = if config.record_candidates {
@@ -353,7 +375,8 @@ pub fn run_grasp_benchmark_with(
                         .zip(&evaluations)
                         .zip(held_by_evaluation)
                         .zip(frames)
-                        .map(|(((&i, e), held), tactile)| CandidateRecord {
+                        .zip(series_by_evaluation)
+                        .map(|((((&i, e), held), tactile), tactile_series)| CandidateRecord {
                             index: i,
                             candidate: candidates[i].clone(),
                             status: e.status,
@@ -367,6 +390,7 @@ pub fn run_grasp_benchmark_with(
                             volume: e.quality.map_or(0.0, |q| q.volume),
                             physics_held: held,
                             tactile,
+                            tactile_series,
                         })
                         .collect()
                 } else {

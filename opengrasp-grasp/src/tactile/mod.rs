@@ -143,10 +143,10 @@ pub struct TactileFrame {
 }
 
 impl TactileFrame {
-    /// The compact form: nonzero raw cells per pad.
+    /// The compact form: nonzero raw cells per pad, time rounded to the microsecond.
     pub fn compact(&self, array: &TactileArray) -> CompactFrame {
         CompactFrame {
-            time: self.time,
+            time: (self.time * 1e6).round() / 1e6,
             pads: array
                 .sensors()
                 .iter()
