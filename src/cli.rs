@@ -7,7 +7,8 @@
 //!                                [--hand NAME|PATH]... [--object NAME|PATH]...
 //!                                [--seed S] [--max-candidates N|all] [--out results.json] [--jobs J]
 //!                                [--quiet]
-//! opengrasp report results.json [--format table|markdown|csv] [--plots DIR] [--ompl DIR]
+//! opengrasp report results.json [--format table|markdown|csv] [--plots DIR]
+//!                                [--plot-format svg|png|both] [--ompl DIR]
 //! opengrasp submit results.json --name NAME [--team TEAM] [--db highscore.sqlite]
 //! opengrasp submit results.json --name NAME --server http://HOST:PORT [--token TOKEN]
 //! opengrasp highscore [BENCHMARK] [--db highscore.sqlite]
@@ -113,6 +114,28 @@ impl From<ProtocolArg> for crate::motion::protocol::Protocol {
         match p {
             ProtocolArg::Certified => Self::Certified,
             ProtocolArg::Paper => Self::Paper,
+        }
+    }
+}
+
+/// Image format of `report --plots` on the command line.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum PlotFormatArg {
+    /// SVG only.
+    Svg,
+    /// PNG only.
+    Png,
+    /// SVG and PNG of every plot.
+    #[default]
+    Both,
+}
+
+impl From<PlotFormatArg> for crate::plots::PlotFormat {
+    fn from(f: PlotFormatArg) -> Self {
+        match f {
+            PlotFormatArg::Svg => Self::Svg,
+            PlotFormatArg::Png => Self::Png,
+            PlotFormatArg::Both => Self::Both,
         }
     }
 }
@@ -236,9 +259,13 @@ pub enum Command {
         /// Output format.
         #[arg(long, value_enum, default_value = "table")]
         format: FormatArg,
-        /// Write SVG plots into this directory.
+        /// Write plots (Tukey box plots of planning time and path length, force-closure bars)
+        /// into this directory.
         #[arg(long)]
         plots: Option<PathBuf>,
+        /// Image format of the plots.
+        #[arg(long, value_enum, default_value = "both")]
+        plot_format: PlotFormatArg,
         /// Write the motion results as OMPL benchmark logs (one per scene) into this directory.
         #[arg(long)]
         ompl: Option<PathBuf>,
@@ -523,7 +550,7 @@ pub fn execute(cli: Cli) -> std::result::Result<(), CliError> {
             merged.save(&out)?;
             eprintln!("merged {} shards into {}", files.len(), out.display());
         }
-        Command::Report { file, format, plots, ompl } => {
+        Command::Report { file, format, plots, plot_format, ompl } => {
             let text = crate::highscore::read::read_file_bounded(&file, MAX_REPORT_BYTES)?;
             let results = ResultsFile::from_json(&text).map_err(|e| match e {
                 Error::Parse { source, .. } => Error::Parse { path: file.clone(), source },
@@ -535,7 +562,7 @@ pub fn execute(cli: Cli) -> std::result::Result<(), CliError> {
             }
             print!("{}", report::render(&results, format.into()));
             if let Some(dir) = plots {
-                for p in crate::plots::plot_all(&results, &dir)? {
+                for p in crate::plots::plot_all_as(&results, &dir, plot_format.into())? {
                     eprintln!("wrote {}", p.display());
                 }
             }

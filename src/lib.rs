@@ -17,7 +17,7 @@
 //!   deterministically;
 //! - [`results`]: results files with provenance, written atomically and validated on load;
 //! - [`report`]: the paper's Tables I–III (terminal, Markdown, CSV) with medians and
-//!   percentiles; `plots` (feature `plots`): SVG box plots and bar charts;
+//!   percentiles; `plots` (feature `plots`): SVG and PNG Tukey box plots and bar charts;
 //! - [`ompl`]: motion results in OMPL's benchmark log format (Planner Arena);
 //! - `highscore` (feature `highscore`, `opengrasp-highscore`): the high-score board (SQLite
 //!   store and HTTP service);

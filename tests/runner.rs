@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Parser;
 use opengrasp::bench::stock::{resolve_object, stock_hand, stock_object};
-use opengrasp::cli::{self, Cli, Command, FormatArg, ListWhat, RunArgs, SizeArg, Which};
+use opengrasp::cli::{self, Cli, Command, FormatArg, ListWhat, PlotFormatArg, RunArgs, SizeArg, Which};
 use opengrasp::grasp::benchmark::CellResult;
 use opengrasp::motion::benchmark::{BenchmarkOptions, PathReport, RunRecord, RunStatus};
 use opengrasp::motion::metrics::PathMetrics;
@@ -503,14 +503,20 @@ fn command_line_parses() {
         .unwrap()
         .command
     {
-        Command::Report { file, format, plots, ompl } => {
+        Command::Report { file, format, plots, plot_format, ompl } => {
             assert_eq!(file, PathBuf::from("r.json"));
             assert_eq!(format, FormatArg::Csv);
             assert_eq!(plots, Some(PathBuf::from("p")));
+            assert_eq!(plot_format, PlotFormatArg::Both);
             assert_eq!(ompl, Some(PathBuf::from("o")));
         }
         other => panic!("parsed {other:?}"),
     }
+    assert!(matches!(
+        Cli::try_parse_from(["opengrasp", "report", "r.json", "--plots", "p", "--plot-format", "png"]).unwrap().command,
+        Command::Report { plot_format: PlotFormatArg::Png, .. }
+    ));
+    assert!(Cli::try_parse_from(["opengrasp", "report", "r.json", "--plot-format", "gif"]).is_err());
     assert!(matches!(
         Cli::try_parse_from(["opengrasp", "list", "objects"]).unwrap().command,
         Command::List { what: ListWhat::Objects }
@@ -574,9 +580,12 @@ fn run_motion_end_to_end() {
     ])
     .unwrap();
     cli::execute(cli).unwrap();
-    for f in ["motion_planar_post_planning_time.svg", "motion_planar_post_length.svg"] {
-        let svg = std::fs::read_to_string(plots.join(f)).unwrap();
-        assert!(svg.starts_with("<svg") && svg.contains("RRT-Connect") && svg.contains("PRM"), "{f}");
+    for f in ["motion_planar_post_planning_time", "motion_planar_post_length"] {
+        let svg = std::fs::read_to_string(plots.join(format!("{f}.svg"))).unwrap();
+        assert!(svg.starts_with("<svg") && svg.contains("RRT-Connect (n=2)") && svg.contains("PRM (n=2)"), "{f}");
+        // The default --plot-format is both.
+        let png = std::fs::read(plots.join(format!("{f}.png"))).unwrap();
+        assert!(png.starts_with(b"\x89PNG\r\n\x1a\n"), "{f}");
     }
     let log = std::fs::read_to_string(ompl.join("ompl_planar_post.log")).unwrap();
     assert!(log.starts_with("OpenGRASP-rs version"));
@@ -661,14 +670,48 @@ fn run_grasp_takes_hands_and_objects_from_files() {
     assert!(matches!(cli::run(&args("barrett", "anvil"), false), Err(Error::InvalidOption { name: "object", .. })));
 }
 
+/// The contents of every `<text>` element of an SVG document, trimmed.
+fn svg_texts(svg: &str) -> Vec<String> {
+    svg.split("<text")
+        .skip(1)
+        .filter_map(|t| {
+            let body = &t[t.find('>')? + 1..];
+            Some(body[..body.find("</text>")?].trim().to_string())
+        })
+        .collect()
+}
+
 #[test]
-fn grasp_plots_are_svg() {
+fn grasp_plots_are_svg_and_png() {
+    use opengrasp::plots::PlotFormat;
     let dir = temp_dir("plots");
     let written = opengrasp::plots::plot_all(&hand_made(), &dir).unwrap();
     let names: Vec<String> = written.iter().map(|p| p.file_name().unwrap().to_string_lossy().into_owned()).collect();
     assert_eq!(names, vec!["grasp_barrett_fc.svg", "motion_scene_a_planning_time.svg", "motion_scene_a_length.svg"]);
     let svg = std::fs::read_to_string(dir.join("grasp_barrett_fc.svg")).unwrap();
-    assert!(svg.contains("salt_can") && svg.contains("medial-axis") && svg.contains("<rect"));
+    assert!(svg.contains("<rect"));
+    let texts = svg_texts(&svg);
+    // Palm-contact counts per bar; surface-normals on white_cup had no palm contact: no data.
+    for label in ["salt_can", "white_cup", "medial-axis", "surface-normals", "n=10", "n=4", "object"] {
+        assert!(texts.iter().any(|t| t == label), "{label} missing in {texts:?}");
+    }
+    assert_eq!(texts.iter().filter(|t| *t == "no data").count(), 1, "{texts:?}");
+    assert!(texts.iter().any(|t| t.starts_with("force closure [%")), "{texts:?}");
+    // Issue 16: no Debug quotes in labels; n per box; units on the axes.
+    let times = svg_texts(&std::fs::read_to_string(dir.join("motion_scene_a_planning_time.svg")).unwrap());
+    assert!(times.iter().any(|t| t == "P1 (n=3)") && times.iter().any(|t| t == "planning time [ms]"), "{times:?}");
+    let lengths = svg_texts(&std::fs::read_to_string(dir.join("motion_scene_a_length.svg")).unwrap());
+    assert!(lengths.iter().any(|t| t == "P1 (n=2)") && lengths.iter().any(|t| t.contains("[rad, m]")), "{lengths:?}");
+    assert!(texts.iter().chain(&times).chain(&lengths).all(|t| !t.contains('"') && !t.contains("&quot;")));
+
+    // Both formats: each figure as SVG, then PNG.
+    let both = opengrasp::plots::plot_all_as(&hand_made(), &dir.join("both"), PlotFormat::Both).unwrap();
+    assert_eq!(both.len(), 6);
+    for pair in both.chunks(2) {
+        assert_eq!(pair[0].with_extension("png"), pair[1]);
+        let png = std::fs::read(&pair[1]).unwrap();
+        assert!(png.starts_with(b"\x89PNG\r\n\x1a\n") && &png[12..16] == b"IHDR", "{}", pair[1].display());
+    }
     let _ = std::fs::remove_dir_all(dir);
 }
 

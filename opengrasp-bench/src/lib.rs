@@ -14,7 +14,7 @@
 //! - [`report`]: the paper's Tables I–III (terminal, Markdown, CSV) with medians and
 //!   percentiles;
 //! - [`ompl`]: motion results in OMPL's benchmark log format (Planner Arena);
-//! - `plots` (feature `plots`): SVG box plots and bar charts.
+//! - `plots` (feature `plots`): SVG and PNG box plots (Tukey) and bar charts.
 //!
 //! The SDK crates (`opengrasp-core`, `-grasp`, `-motion`, `-assets`) know nothing of this
 //! crate; the high-score board (`opengrasp-highscore`) and the `opengrasp` command build on it.

@@ -8,7 +8,8 @@ use opengrasp_grasp::benchmark::{CandidateRecord, CellResult};
 use opengrasp_grasp::tactile::{CompactFrame, CompactPad};
 use plotters::prelude::*;
 
-use super::{file_token, plot_err};
+use super::backend::plot_err;
+use super::file_token;
 use crate::results::{GraspSection, Result};
 
 /// Largest raw value of the DSA modules (12 bit): the top of the colour scale.
