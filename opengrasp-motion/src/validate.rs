@@ -40,7 +40,28 @@ pub fn path_length(path: &[Vec<f64>]) -> f64 {
 /// Returns false on the first invalid state. A non-positive or non-finite `step` checks only
 /// `b`.
 pub fn segment_valid_discrete(checker: &dyn StateValidityChecker, a: &[f64], b: &[f64], step: f64) -> bool {
-    if !checker.is_valid(b) {
+    segment_valid_discrete_with(checker, a, b, step)
+}
+
+/// [`segment_valid_discrete`] for any checker type (the default of
+/// [`StateValidityChecker::is_motion_valid`]).
+pub(crate) fn segment_valid_discrete_with<C: StateValidityChecker + ?Sized>(
+    checker: &C,
+    a: &[f64],
+    b: &[f64],
+    step: f64,
+) -> bool {
+    segment_valid_discrete_by(|q| checker.is_valid(q), a, b, step)
+}
+
+/// The coarse-to-fine state order of [`segment_valid_discrete`] with any state test.
+pub(crate) fn segment_valid_discrete_by(
+    mut valid: impl FnMut(&[f64]) -> bool,
+    a: &[f64],
+    b: &[f64],
+    step: f64,
+) -> bool {
+    if !valid(b) {
         return false;
     }
     let len = distance(a, b);
@@ -54,7 +75,7 @@ pub fn segment_valid_discrete(checker: &dyn StateValidityChecker, a: &[f64], b: 
         let mut i = stride;
         while i < n {
             interpolate_into(a, b, i as f64 / n as f64, &mut q);
-            if !checker.is_valid(&q) {
+            if !valid(&q) {
                 return false;
             }
             i += 2 * stride;
