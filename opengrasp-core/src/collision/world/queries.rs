@@ -278,15 +278,26 @@ impl CollisionWorld {
             let e = &self.env[leaf as usize];
             best = Some(Nearest { distance: d, id: Collider::Body(e.body), pose: e.pose, shape: &*e.part.shape });
         }
+        // Movable obstacles nearest bounding box first, so that the bound tightens early and
+        // the farther ones are skipped without an exact query.
+        let mut near: Vec<(f64, Obstacle<'_>)> = Vec::new();
         let _ = self.visit_dynamic(rid, |o| {
-            if aabb_distance(o.aabb, &item.aabb) < bound {
-                if let Some(d) = distance_below(placed, o.placed(), bound) {
-                    bound = d;
-                    best = Some(Nearest { distance: d, id: o.id, pose: *o.pose, shape: o.shape });
-                }
+            let lb = aabb_distance(o.aabb, &item.aabb);
+            if lb < bound {
+                near.push((lb, o));
             }
             ControlFlow::Continue(())
         });
+        near.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for (lb, o) in near {
+            if lb >= bound {
+                break;
+            }
+            if let Some(d) = distance_below(placed, o.placed(), bound) {
+                bound = d;
+                best = Some(Nearest { distance: d, id: o.id, pose: *o.pose, shape: o.shape });
+            }
+        }
         best
     }
 
