@@ -55,7 +55,13 @@ pub(crate) fn segment_valid_discrete_with<C: StateValidityChecker + ?Sized>(
 }
 
 /// The coarse-to-fine state order of [`segment_valid_discrete`] with any state test.
-pub(crate) fn segment_valid_discrete_by(
+pub(crate) fn segment_valid_discrete_by(valid: impl FnMut(&[f64]) -> bool, a: &[f64], b: &[f64], step: f64) -> bool {
+    segment_valid_discrete_into(&mut Vec::with_capacity(a.len()), valid, a, b, step)
+}
+
+/// [`segment_valid_discrete_by`] with a caller's buffer for the interpolated states.
+pub(crate) fn segment_valid_discrete_into(
+    q: &mut Vec<f64>,
     mut valid: impl FnMut(&[f64]) -> bool,
     a: &[f64],
     b: &[f64],
@@ -69,13 +75,12 @@ pub(crate) fn segment_valid_discrete_by(
     if n <= 1 {
         return true;
     }
-    let mut q = Vec::with_capacity(a.len());
     let mut stride = n.next_power_of_two() / 2;
     while stride >= 1 {
         let mut i = stride;
         while i < n {
-            interpolate_into(a, b, i as f64 / n as f64, &mut q);
-            if !valid(&q) {
+            interpolate_into(a, b, i as f64 / n as f64, q);
+            if !valid(q) {
                 return false;
             }
             i += 2 * stride;

@@ -10,8 +10,9 @@ use opengrasp_core::scene::{Scene, SceneObject, StaticBody};
 use opengrasp_motion::planners::RrtConnect;
 use opengrasp_motion::smoothing::{repair, shortcut, ShortcutOptions};
 use opengrasp_motion::validate::{segment_valid_discrete, validate_path, ValidationOptions};
-use opengrasp_motion::validity::{CollisionChecker, MotionBound, StateValidityChecker};
+use opengrasp_motion::validity::{CollisionChecker, MotionBound, ObstacleBox, SphereWorld, StateValidityChecker};
 use opengrasp_motion::{Goal, MotionPlanner, PlanningProblem};
+use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -146,5 +147,58 @@ fn post_processing_with_certified_residual_checks_gives_the_plain_result() {
         assert_eq!((fast_stats, fast_repair), (slow_stats, slow_repair));
         let v = validate_path(&checker, &fast, &options);
         assert!(v.discrete && v.strict && v.continuous == Some(true), "seed {seed}: {v:?}");
+    }
+}
+
+/// The 7-DoF sample arm in the cupboard of the stand-in scenes, as a sphere model.
+fn sphere_cupboard() -> (Arc<Robot>, JointGroup, SphereWorld) {
+    let robot = Arc::new(samples::seven_dof_arm().unwrap());
+    let group = robot.group("arm").unwrap().clone();
+    let boxes = vec![
+        ObstacleBox::new("table", Isometry3::translation(0.65, 0.0, 0.225), Vector3::new(0.6, 1.2, 0.05)),
+        ObstacleBox::new("shelf", Isometry3::translation(0.65, 0.0, 0.85), Vector3::new(0.6, 1.2, 0.04)),
+        ObstacleBox::new(
+            "divider",
+            Isometry3::new(Vector3::new(0.7, 0.0, 0.54), Vector3::new(0.0, 0.0, 0.3)),
+            Vector3::new(0.5, 0.04, 0.58),
+        ),
+    ];
+    let world =
+        SphereWorld::new(robot.clone(), group.clone(), robot.home_configuration(), Isometry3::identity(), boxes)
+            .unwrap();
+    (robot, group, world)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// The vectorised state check agrees with the sphere model's closed-form distances (valid
+    /// exactly when every link distance — boxes and half the self-collision gaps — is
+    /// positive), and the batched and motion checks with the scalar ones.
+    #[test]
+    fn sphere_kernels_agree_with_distances_and_scalar_checks(seed in 0u64..10_000) {
+        let (robot, group, world) = sphere_cupboard();
+        let limits = group.limits(&robot);
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let qs: Vec<Vec<f64>> = (0..8).map(|_| random_q(&mut rng, &limits)).collect();
+        let mut d = Vec::new();
+        for q in &qs {
+            prop_assert!(world.link_distances(q, &mut d));
+            let min = d.iter().copied().fold(f64::INFINITY, f64::min);
+            // Away from contact (rounding of the two formulas aside) the verdicts agree.
+            if min.abs() > 1e-9 {
+                prop_assert_eq!(world.is_valid(q), min > 0.0);
+            }
+        }
+        let flat: Vec<f64> = qs.iter().flatten().copied().collect();
+        let mut out = vec![false; qs.len()];
+        world.are_valid(&flat, &mut out);
+        for (q, o) in qs.iter().zip(&out) {
+            prop_assert_eq!(*o, world.is_valid(q));
+        }
+        prop_assert_eq!(
+            world.is_motion_valid(&qs[0], &qs[1], 0.05),
+            segment_valid_discrete(&world, &qs[0], &qs[1], 0.05)
+        );
     }
 }

@@ -15,6 +15,7 @@
 
 mod bound;
 mod exact;
+mod soa;
 mod spheres;
 
 use std::cell::Cell;
