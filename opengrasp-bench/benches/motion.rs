@@ -1,6 +1,7 @@
 //! Planning time on the standard motion-planning scene (scene 1): RRT-Connect on the
-//! ARMAR-III-like humanoid in the kitchen (hip yaw + right arm) and on the 7-DoF stand-in, plus
-//! the cost of one validity check.
+//! ARMAR-III-like humanoid in the kitchen (hip yaw + right arm) and on the 7-DoF stand-in, the
+//! post-processing of planned paths (repair + shortcut, as the harness runs it), plus the cost
+//! of one validity check.
 //!
 //! ```sh
 //! cargo bench -p opengrasp-bench --bench motion -- --warm-up-time 1 --measurement-time 3
@@ -15,6 +16,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use opengrasp_bench::scenes::{armar_standard_scene, standard_scene, CheckerKind};
 use opengrasp_motion::benchmark::BenchmarkScene;
 use opengrasp_motion::planners::RrtConnect;
+use opengrasp_motion::smoothing::{repair, shortcut, ShortcutOptions};
 use opengrasp_motion::MotionPlanner;
 
 fn bench_scene(c: &mut Criterion, id: &str, scene: BenchmarkScene) {
@@ -27,6 +29,24 @@ fn bench_scene(c: &mut Criterion, id: &str, scene: BenchmarkScene) {
             seed = (seed + 1) % 100;
             let problem = instance.problem(&*instance.checker, Duration::from_secs(10), seed, 0.02);
             planner.plan(&problem).expect("solved")
+        })
+    });
+    // Post-processing as the harness runs it (repair, then shortcut with every validator's
+    // check), on the paths of 10 seeds, cycling.
+    let paths: Vec<Vec<Vec<f64>>> = (0..10)
+        .map(|seed| {
+            let problem = instance.problem(&*instance.checker, Duration::from_secs(10), seed, 0.02);
+            planner.plan(&problem).expect("solved").path
+        })
+        .collect();
+    let limits = instance.group.limits(&instance.robot);
+    let mut k = 0usize;
+    c.bench_function(&format!("{id}/postprocess"), |b| {
+        b.iter(|| {
+            k = (k + 1) % paths.len();
+            let options = ShortcutOptions { seed: k as u64, ..ShortcutOptions::default() };
+            let (repaired, _) = repair(&*instance.checker, &paths[k], &limits, &options);
+            shortcut(&*instance.checker, &repaired, &options)
         })
     });
     let q = instance.start.clone();

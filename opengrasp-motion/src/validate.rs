@@ -40,7 +40,34 @@ pub fn path_length(path: &[Vec<f64>]) -> f64 {
 /// Returns false on the first invalid state. A non-positive or non-finite `step` checks only
 /// `b`.
 pub fn segment_valid_discrete(checker: &dyn StateValidityChecker, a: &[f64], b: &[f64], step: f64) -> bool {
-    if !checker.is_valid(b) {
+    segment_valid_discrete_with(checker, a, b, step)
+}
+
+/// [`segment_valid_discrete`] for any checker type (the default of
+/// [`StateValidityChecker::is_motion_valid`]).
+pub(crate) fn segment_valid_discrete_with<C: StateValidityChecker + ?Sized>(
+    checker: &C,
+    a: &[f64],
+    b: &[f64],
+    step: f64,
+) -> bool {
+    segment_valid_discrete_by(|q| checker.is_valid(q), a, b, step)
+}
+
+/// The coarse-to-fine state order of [`segment_valid_discrete`] with any state test.
+pub(crate) fn segment_valid_discrete_by(valid: impl FnMut(&[f64]) -> bool, a: &[f64], b: &[f64], step: f64) -> bool {
+    segment_valid_discrete_into(&mut Vec::with_capacity(a.len()), valid, a, b, step)
+}
+
+/// [`segment_valid_discrete_by`] with a caller's buffer for the interpolated states.
+pub(crate) fn segment_valid_discrete_into(
+    q: &mut Vec<f64>,
+    mut valid: impl FnMut(&[f64]) -> bool,
+    a: &[f64],
+    b: &[f64],
+    step: f64,
+) -> bool {
+    if !valid(b) {
         return false;
     }
     let len = distance(a, b);
@@ -48,13 +75,12 @@ pub fn segment_valid_discrete(checker: &dyn StateValidityChecker, a: &[f64], b: 
     if n <= 1 {
         return true;
     }
-    let mut q = Vec::with_capacity(a.len());
     let mut stride = n.next_power_of_two() / 2;
     while stride >= 1 {
         let mut i = stride;
         while i < n {
-            interpolate_into(a, b, i as f64 / n as f64, &mut q);
-            if !checker.is_valid(&q) {
+            interpolate_into(a, b, i as f64 / n as f64, q);
+            if !valid(q) {
                 return false;
             }
             i += 2 * stride;

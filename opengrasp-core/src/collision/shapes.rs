@@ -118,6 +118,18 @@ pub(crate) struct Part {
     pub local: Isometry3<f64>,
     /// The shape.
     pub shape: SharedShape,
+    /// For a triangle-mesh shape, the convex hull of its vertices (which contains it): a cheap
+    /// conservative stand-in that rules out far or separated pairs before the exact
+    /// triangle-by-triangle query. `None` for convex shapes.
+    pub hull: Option<SharedShape>,
+}
+
+impl Part {
+    /// A part, with the hull of a triangle-mesh shape.
+    pub fn new(local: Isometry3<f64>, shape: SharedShape) -> Self {
+        let hull = shape.as_trimesh().and_then(|m| SharedShape::convex_hull(m.vertices()));
+        Self { local, shape, hull }
+    }
 }
 
 impl std::fmt::Debug for Part {
@@ -132,7 +144,7 @@ pub(crate) fn shapes_to_parts(shapes: &[Shape], meshes: MeshRepresentation) -> R
         .iter()
         .map(|s| {
             let (correction, shape) = geometry_to_parry(&s.geometry, meshes)?;
-            Ok(Part { local: s.origin * correction, shape })
+            Ok(Part::new(s.origin * correction, shape))
         })
         .collect()
 }

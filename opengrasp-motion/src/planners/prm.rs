@@ -9,7 +9,7 @@ use rand_chacha::ChaCha8Rng;
 use super::Nodes;
 use crate::error::{MotionError, Result};
 use crate::problem::{Deadline, Goal, MotionPlanner, PlanningProblem, SetupContext, Solution};
-use crate::validate::segment_valid_discrete;
+
 use crate::validity::StateValidityChecker;
 
 /// Options of [`Prm`].
@@ -81,7 +81,7 @@ impl Prm {
         let i = self.nodes.push(q);
         self.edges.push(Vec::new());
         for (j, d) in near {
-            if segment_valid_discrete(checker, self.nodes.get(j), q, step) {
+            if checker.is_motion_valid(self.nodes.get(j), q, step) {
                 self.edges[i].push((j, d));
                 self.edges[j].push((i, d));
             }
@@ -113,7 +113,7 @@ impl Prm {
         self.nodes
             .k_nearest(q, self.options.k, None)
             .into_iter()
-            .filter(|&(j, _)| segment_valid_discrete(checker, q, self.nodes.get(j), step))
+            .filter(|&(j, _)| checker.is_motion_valid(q, self.nodes.get(j), step))
             .collect()
     }
 
@@ -231,7 +231,7 @@ impl MotionPlanner for Prm {
             return Err(timeout());
         }
         for g in &goals {
-            if segment_valid_discrete(checker, problem.start, g, step) {
+            if checker.is_motion_valid(problem.start, g, step) {
                 return Ok(Solution { path: vec![problem.start.to_vec(), g.clone()], iterations });
             }
         }

@@ -6,7 +6,7 @@ use rand_chacha::ChaCha8Rng;
 use super::Nodes;
 use crate::error::{MotionError, Result};
 use crate::problem::{Deadline, Goal, MotionPlanner, PlanningProblem, Solution};
-use crate::validate::{distance, segment_valid_discrete};
+use crate::validate::distance;
 
 /// Options of [`RrtConnect`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -187,6 +187,8 @@ struct Bidirectional<'p, 'a> {
     trees: [Tree; 2],
     max_roots: usize,
     scratch: Vec<f64>,
+    from: Vec<f64>,
+    target: Vec<f64>,
 }
 
 impl<'p, 'a> Bidirectional<'p, 'a> {
@@ -198,14 +200,25 @@ impl<'p, 'a> Bidirectional<'p, 'a> {
         for r in &roots {
             goal.add(r, usize::MAX);
         }
-        Self { problem, range, trees: [start, goal], max_roots: usize::MAX, scratch: Vec::new() }
+        Self {
+            problem,
+            range,
+            trees: [start, goal],
+            max_roots: usize::MAX,
+            scratch: Vec::new(),
+            from: Vec::new(),
+            target: Vec::new(),
+        }
     }
 
     fn extend(&mut self, t: usize, target: &[f64]) -> Extend {
         let tree = &mut self.trees[t];
         let Some(near) = tree.nodes.nearest(target) else { return Extend::Trapped };
-        let from = tree.nodes.get(near).to_vec();
-        let d = distance(&from, target);
+        // Reused buffers: no allocation per extension.
+        let from = &mut self.from;
+        from.clear();
+        from.extend_from_slice(tree.nodes.get(near));
+        let d = distance(from, target);
         let reached = d <= self.range;
         self.scratch.clear();
         if reached {
@@ -214,7 +227,7 @@ impl<'p, 'a> Bidirectional<'p, 'a> {
             let s = self.range / d;
             self.scratch.extend(from.iter().zip(target).map(|(a, b)| a + s * (b - a)));
         }
-        if !segment_valid_discrete(self.problem.checker, &from, &self.scratch, self.problem.step) {
+        if !self.problem.checker.is_motion_valid(from, &self.scratch, self.problem.step) {
             return Extend::Trapped;
         }
         let new = tree.add(&self.scratch, near);
@@ -273,8 +286,12 @@ impl<'p, 'a> Bidirectional<'p, 'a> {
                 Extend::Advanced(n) | Extend::Reached(n) => Some(n),
             };
             if let Some(n) = new {
-                let q = self.trees[a].nodes.get(n).to_vec();
-                if let Extend::Reached(m) = self.connect(b, &q) {
+                let mut q = std::mem::take(&mut self.target);
+                q.clear();
+                q.extend_from_slice(self.trees[a].nodes.get(n));
+                let reached = self.connect(b, &q);
+                self.target = q;
+                if let Extend::Reached(m) = reached {
                     let (s, g) = if a == 0 { (n, m) } else { (m, n) };
                     return Ok(self.solution(s, g, iterations));
                 }

@@ -100,4 +100,15 @@ impl StateValidityChecker for CollisionChecker {
     fn motion_bound(&self) -> Option<&MotionBound> {
         Some(&self.bound)
     }
+    fn residual_valid(&self, q: &[f64]) -> Option<bool> {
+        let full = self.full(q);
+        // The link distances are measured at the configuration clamped to the joint limits:
+        // only within the limits do they describe `q` itself.
+        let mut clamped = full.clone();
+        self.robot.clamp_configuration(&mut clamped);
+        if clamped != full {
+            return None;
+        }
+        Some(!self.world.in_self_collision_unchecked(self.robot_id, &full))
+    }
 }

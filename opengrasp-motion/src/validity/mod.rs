@@ -15,6 +15,7 @@
 
 mod bound;
 mod exact;
+mod soa;
 mod spheres;
 
 use std::cell::Cell;
@@ -68,6 +69,39 @@ pub trait StateValidityChecker {
     fn ccd_covers_self_collision(&self) -> bool {
         false
     }
+
+    /// Checks several configurations at once: `qs` holds `out.len()` configurations of
+    /// [`StateValidityChecker::dim`] values each, back to back, and `out[k]` receives
+    /// [`StateValidityChecker::is_valid`] of the `k`-th. The default calls `is_valid` in turn;
+    /// vectorised checkers override it. Results must equal the scalar ones.
+    fn are_valid(&self, qs: &[f64], out: &mut [bool]) {
+        let dim = self.dim().max(1);
+        for (q, o) in qs.chunks_exact(dim).zip(out.iter_mut()) {
+            *o = self.is_valid(q);
+        }
+    }
+
+    /// Discrete check of the motion `a → b` at `step`: true if `b` and the states at
+    /// `n = ⌈|b − a| / step⌉` equal subdivisions are valid (exactly the verdict of
+    /// [`segment_valid_discrete`](crate::validate::segment_valid_discrete), which the default
+    /// calls: end state first, then coarse to fine). Checkers that test many states at once
+    /// override it; planners call it for every edge.
+    fn is_motion_valid(&self, a: &[f64], b: &[f64], step: f64) -> bool {
+        crate::validate::segment_valid_discrete_with(self, a, b, step)
+    }
+
+    /// Validity of `q` with respect to everything [`StateValidityChecker::link_distances`]
+    /// does *not* measure (for core's exact checker: self-collision and carried objects
+    /// against the robot's own links), or `None` (default) if the checker cannot separate it.
+    ///
+    /// Lets post-processing certify a segment's environment clearance once by conservative
+    /// advancement and then run its fine discrete checks on this cheaper remainder: for `q`
+    /// with every link distance positive, `is_valid(q) == residual_valid(q).unwrap()` must
+    /// hold.
+    fn residual_valid(&self, q: &[f64]) -> Option<bool> {
+        let _ = q;
+        None
+    }
 }
 
 /// Forwards every method of [`StateValidityChecker`] through a pointer type.
@@ -91,6 +125,15 @@ macro_rules! forward_checker {
             }
             fn ccd_covers_self_collision(&self) -> bool {
                 (**self).ccd_covers_self_collision()
+            }
+            fn are_valid(&self, qs: &[f64], out: &mut [bool]) {
+                (**self).are_valid(qs, out)
+            }
+            fn is_motion_valid(&self, a: &[f64], b: &[f64], step: f64) -> bool {
+                (**self).is_motion_valid(a, b, step)
+            }
+            fn residual_valid(&self, q: &[f64]) -> Option<bool> {
+                (**self).residual_valid(q)
             }
         }
     )*};
@@ -160,4 +203,18 @@ impl StateValidityChecker for CountingChecker<'_> {
     fn ccd_covers_self_collision(&self) -> bool {
         self.inner.ccd_covers_self_collision()
     }
+    fn are_valid(&self, qs: &[f64], out: &mut [bool]) {
+        self.checks.set(self.checks.get() + out.len() as u64);
+        self.inner.are_valid(qs, out)
+    }
+    fn residual_valid(&self, q: &[f64]) -> Option<bool> {
+        // A partial check: counted as a check.
+        let r = self.inner.residual_valid(q);
+        if r.is_some() {
+            self.checks.set(self.checks.get() + 1);
+        }
+        r
+    }
+    // `is_motion_valid` keeps the default, so every state it checks is counted through
+    // `is_valid`.
 }

@@ -8,6 +8,7 @@ use opengrasp_core::model::{Geometry, JointGroup, LinkId, Robot};
 
 use crate::error::Result;
 
+use super::soa::{with_scratch, Scratch, SphereSoa};
 use super::{MotionBound, StateValidityChecker};
 
 /// An oriented box obstacle of a [`SphereWorld`].
@@ -65,6 +66,8 @@ pub struct SphereWorld {
     pairs: Vec<(usize, usize)>,
     boxes: Vec<ObstacleBox>,
     bound: MotionBound,
+    /// The same spheres as `spheres`, struct of arrays, for the state checks.
+    soa: SphereSoa,
 }
 
 fn cover_shape(geometry: &Geometry, origin: &Isometry3<f64>, out: &mut Vec<(Point3<f64>, f64)>) {
@@ -151,8 +154,9 @@ impl SphereWorld {
             points.push(pts);
         }
         let bound = MotionBound::new(&robot, &group, &links, &points)?;
+        let soa = SphereSoa::new(&spheres, &ranges, &boxes);
         let mut world =
-            Self { robot, group, q_full, base_pose, spheres, ranges, links, pairs: Vec::new(), boxes, bound };
+            Self { robot, group, q_full, base_pose, spheres, ranges, links, pairs: Vec::new(), boxes, bound, soa };
         let reference = world.q_full.clone();
         let centres = world.sphere_centres(&reference);
         let n = world.links.len();
@@ -234,20 +238,48 @@ impl SphereWorld {
     }
 }
 
+impl SphereWorld {
+    /// The state check behind [`StateValidityChecker::is_valid`]: forward kinematics, the
+    /// sphere centres as struct-of-arrays, then boxes and self-collision pairs, each culled by
+    /// the link's bounding sphere first.
+    fn check_state(&self, q: &[f64], s: &mut Scratch) -> bool {
+        s.full.clear();
+        s.full.extend_from_slice(&self.q_full);
+        for (&d, &v) in self.group.dofs().iter().zip(q) {
+            s.full[d] = v;
+        }
+        forward_kinematics_into(&self.robot, &s.full, &mut s.poses);
+        let poses: &[Isometry3<f64>] = &s.poses;
+        self.soa.place(self.links.iter().map(|l| self.base_pose * poses[l.0]), &mut s.centres);
+        self.soa.free_of_boxes(&s.centres) && self.pairs.iter().all(|&(a, b)| self.soa.pair_clear(&s.centres, a, b))
+    }
+}
+
 impl StateValidityChecker for SphereWorld {
     fn dim(&self) -> usize {
         self.group.len()
     }
 
     fn is_valid(&self, q: &[f64]) -> bool {
-        let centres = self.centres_for(q);
-        for (i, c) in centres.iter().enumerate() {
-            let r = self.spheres[i].2;
-            if self.boxes.iter().any(|b| b.signed_distance(c) <= r) {
-                return false;
+        with_scratch(|s| self.check_state(q, s))
+    }
+
+    fn are_valid(&self, qs: &[f64], out: &mut [bool]) {
+        let dim = self.group.len().max(1);
+        with_scratch(|s| {
+            for (q, o) in qs.chunks_exact(dim).zip(out.iter_mut()) {
+                *o = self.check_state(q, s);
             }
-        }
-        self.pairs.iter().all(|&(a, b)| self.pair_distance(&centres, a, b) > 0.0)
+        })
+    }
+
+    fn is_motion_valid(&self, a: &[f64], b: &[f64], step: f64) -> bool {
+        with_scratch(|s| {
+            let mut q = std::mem::take(&mut s.q);
+            let ok = crate::validate::segment_valid_discrete_into(&mut q, |q| self.check_state(q, s), a, b, step);
+            s.q = q;
+            ok
+        })
     }
 
     fn clearance(&self, q: &[f64]) -> Option<f64> {

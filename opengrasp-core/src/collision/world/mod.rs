@@ -165,7 +165,15 @@ struct Obstacle<'a> {
     id: Collider,
     pose: &'a Isometry3<f64>,
     shape: &'a dyn ParryShape,
+    /// The convex hull of a triangle-mesh shape (see `Part::hull`).
+    hull: Option<&'a dyn ParryShape>,
     aabb: &'a Aabb,
+}
+
+impl<'a> Obstacle<'a> {
+    fn placed(&self) -> narrow::Placed<'a> {
+        narrow::Placed { pose: self.pose, shape: self.shape, hull: self.hull }
+    }
 }
 
 /// Collision, distance and contact queries against a [`Scene`].

@@ -24,6 +24,45 @@ pub(super) fn intersects(p1: &Isometry3<f64>, s1: &dyn ParryShape, p2: &Isometry
     }
 }
 
+/// A placed shape with an optional convex stand-in that contains it (the hull of a triangle
+/// mesh), used to rule out pairs cheaply.
+#[derive(Clone, Copy)]
+pub(super) struct Placed<'a> {
+    pub pose: &'a Isometry3<f64>,
+    pub shape: &'a dyn ParryShape,
+    pub hull: Option<&'a dyn ParryShape>,
+}
+
+impl<'a> Placed<'a> {
+    fn outer(&self) -> &'a dyn ParryShape {
+        self.hull.unwrap_or(self.shape)
+    }
+}
+
+/// [`intersects`], first testing the hulls when either shape has one: shapes inside
+/// separated hulls cannot intersect.
+pub(super) fn intersects_placed(a: Placed<'_>, b: Placed<'_>) -> bool {
+    if (a.hull.is_some() || b.hull.is_some()) && !intersects(a.pose, a.outer(), b.pose, b.outer()) {
+        return false;
+    }
+    intersects(a.pose, a.shape, b.pose, b.shape)
+}
+
+/// [`distance`] when it is below `bound`, `None` otherwise (or for unsupported pairs). When
+/// either shape has a hull, the hulls' distance (a lower bound) is computed first and the
+/// exact query is skipped if it already reaches `bound`. The value returned is always the
+/// exact distance.
+pub(super) fn distance_below(a: Placed<'_>, b: Placed<'_>, bound: f64) -> Option<f64> {
+    if a.hull.is_some() || b.hull.is_some() {
+        if let Some(lb) = distance(a.pose, a.outer(), b.pose, b.outer()) {
+            if lb >= bound {
+                return None;
+            }
+        }
+    }
+    distance(a.pose, a.shape, b.pose, b.shape).filter(|&d| d < bound)
+}
+
 /// Exact distance (0 when overlapping), `None` for unsupported shape pairs.
 ///
 /// parry3d 0.25.3's cuboid–cuboid distance (`distance_cuboid_cuboid`) transforms the second

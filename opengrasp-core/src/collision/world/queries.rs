@@ -8,8 +8,9 @@ use parry3d_f64::partitioning::TraversalAction;
 use parry3d_f64::query;
 use parry3d_f64::shape::Shape as ParryShape;
 
-use super::narrow::{aabb_distance, distance, intersects};
+use super::narrow::{aabb_distance, distance, distance_below, intersects_placed, Placed};
 use super::{with_scratch, CollisionWorld, Item, Nearest, Obstacle, Owner, Scratch};
+use crate::collision::shapes::Part;
 use crate::collision::{Collider, Contact, DistanceReport};
 use crate::error::{CoreError, Result};
 use crate::kinematics::forward_kinematics_into;
@@ -49,10 +50,20 @@ impl CollisionWorld {
     }
 
     pub(super) fn item_shape(&self, rid: usize, item: &Item) -> &dyn ParryShape {
+        &*self.item_part(rid, item).shape
+    }
+
+    fn item_part(&self, rid: usize, item: &Item) -> &Part {
         match item.owner {
-            Owner::Link { part } => &*self.robots[rid].parts[part as usize].shape,
-            Owner::Attached { object, part } => &*self.objects[object as usize].parts[part as usize].shape,
+            Owner::Link { part } => &self.robots[rid].parts[part as usize],
+            Owner::Attached { object, part } => &self.objects[object as usize].parts[part as usize],
         }
+    }
+
+    /// The item placed, with its hull if it has one.
+    fn item_placed<'a>(&'a self, rid: usize, item: &'a Item) -> Placed<'a> {
+        let part = self.item_part(rid, item);
+        Placed { pose: &item.pose, shape: &*part.shape, hull: part.hull.as_deref() }
     }
 
     /// Visits the movable obstacles of robot `rid`: objects it does not carry and the parts of
@@ -67,7 +78,13 @@ impl CollisionWorld {
                 continue;
             }
             for (p, (pose, aabb)) in o.parts.iter().zip(&o.world) {
-                f(Obstacle { id: Collider::Object(ObjectId(oi)), pose, shape: &*p.shape, aabb })?;
+                f(Obstacle {
+                    id: Collider::Object(ObjectId(oi)),
+                    pose,
+                    shape: &*p.shape,
+                    hull: p.hull.as_deref(),
+                    aabb,
+                })?;
             }
         }
         for (ri, r) in self.robots.iter().enumerate() {
@@ -75,7 +92,13 @@ impl CollisionWorld {
                 continue;
             }
             for ((p, l), (pose, aabb)) in r.parts.iter().zip(&r.part_link).zip(&r.world) {
-                f(Obstacle { id: Collider::Link(RobotId(ri), *l), pose, shape: &*p.shape, aabb })?;
+                f(Obstacle {
+                    id: Collider::Link(RobotId(ri), *l),
+                    pose,
+                    shape: &*p.shape,
+                    hull: p.hull.as_deref(),
+                    aabb,
+                })?;
             }
         }
         ControlFlow::Continue(())
@@ -102,8 +125,13 @@ impl CollisionWorld {
             if let Some(leaf) = node.leaf_data() {
                 let e = &self.env[leaf as usize];
                 if e.aabb.intersects(&query) {
-                    let o =
-                        Obstacle { id: Collider::Body(e.body), pose: &e.pose, shape: &*e.part.shape, aabb: &e.aabb };
+                    let o = Obstacle {
+                        id: Collider::Body(e.body),
+                        pose: &e.pose,
+                        shape: &*e.part.shape,
+                        hull: e.part.hull.as_deref(),
+                        aabb: &e.aabb,
+                    };
                     if f(o).is_break() {
                         flow = ControlFlow::Break(());
                         return TraversalAction::EarlyExit;
@@ -144,45 +172,68 @@ impl CollisionWorld {
         let rid = robot.0;
         with_scratch(|s| {
             self.place(rid, q, s);
-            let r = &self.robots[rid];
             // Self-collision first: the pair list is precomputed and short.
-            for &(i, j) in &r.self_pairs {
-                let (a, b) = (&s.items[i as usize], &s.items[j as usize]);
-                if a.aabb.intersects(&b.aabb)
-                    && intersects(&a.pose, &*r.parts[i as usize].shape, &b.pose, &*r.parts[j as usize].shape)
-                {
-                    return true;
-                }
+            if self.self_pairs_hit(rid, s) {
+                return true;
             }
-            let n_parts = r.parts.len();
             for item in &s.items {
-                let shape = self.item_shape(rid, item);
+                let placed = self.item_placed(rid, item);
                 let hit = self
                     .visit_near(rid, &item.aabb, 0.0, |o| {
-                        if intersects(&item.pose, shape, o.pose, o.shape) {
+                        if intersects_placed(placed, o.placed()) {
                             ControlFlow::Break(())
                         } else {
                             ControlFlow::Continue(())
                         }
                     })
                     .is_break();
-                if hit {
+                if hit || self.attached_hits_own_links(rid, s, item) {
                     return true;
-                }
-                // Attached objects against the robot's own links.
-                if let Owner::Attached { object, .. } = item.owner {
-                    let touch = &self.objects[object as usize].attached.as_ref().map(|a| &a.touch[..]).unwrap_or(&[]);
-                    for (p, link_item) in s.items[..n_parts].iter().enumerate() {
-                        if !touch.contains(&link_item.link)
-                            && link_item.aabb.intersects(&item.aabb)
-                            && intersects(&item.pose, shape, &link_item.pose, &*r.parts[p].shape)
-                        {
-                            return true;
-                        }
-                    }
                 }
             }
             false
+        })
+    }
+
+    /// The part of [`in_collision_unchecked`](Self::in_collision_unchecked) that
+    /// [`link_distances`](Self::link_distances) does not measure: self-collision (non-allowed
+    /// link pairs) and carried objects against the robot's own links. Environment, free
+    /// objects and other robots are *not* checked.
+    ///
+    /// So for a `q` at which every link distance is positive, `in_collision_unchecked(q) ==
+    /// in_self_collision_unchecked(q)`: once conservative advancement has certified a motion's
+    /// clearance, fine discrete checks along it need only this cheaper test.
+    ///
+    /// # Panics
+    /// As [`in_collision_unchecked`](Self::in_collision_unchecked).
+    pub fn in_self_collision_unchecked(&self, robot: RobotId, q: &[f64]) -> bool {
+        let rid = robot.0;
+        with_scratch(|s| {
+            self.place(rid, q, s);
+            self.self_pairs_hit(rid, s) || s.items.iter().any(|item| self.attached_hits_own_links(rid, s, item))
+        })
+    }
+
+    /// True if a non-allowed pair of the placed robot's parts intersects.
+    fn self_pairs_hit(&self, rid: usize, s: &Scratch) -> bool {
+        let r = &self.robots[rid];
+        r.self_pairs.iter().any(|&(i, j)| {
+            let (a, b) = (&s.items[i as usize], &s.items[j as usize]);
+            a.aabb.intersects(&b.aabb) && intersects_placed(self.item_placed(rid, a), self.item_placed(rid, b))
+        })
+    }
+
+    /// True if `item`, a part of an attached object, intersects a link of its robot it may not
+    /// touch (false for robot parts).
+    fn attached_hits_own_links(&self, rid: usize, s: &Scratch, item: &Item) -> bool {
+        let Owner::Attached { object, .. } = item.owner else { return false };
+        let r = &self.robots[rid];
+        let placed = self.item_placed(rid, item);
+        let touch = self.objects[object as usize].attached.as_ref().map(|a| &a.touch[..]).unwrap_or(&[]);
+        s.items[..r.parts.len()].iter().any(|link_item| {
+            !touch.contains(&link_item.link)
+                && link_item.aabb.intersects(&item.aabb)
+                && intersects_placed(placed, self.item_placed(rid, link_item))
         })
     }
 
@@ -211,32 +262,42 @@ impl CollisionWorld {
     /// Nearest obstacle of one item if nearer than `bound` (branch and bound over the
     /// hierarchy, nearest AABB first); distances are ≥ 0 (0 when touching or overlapping).
     pub(super) fn item_min_distance(&self, rid: usize, item: &Item, bound: f64) -> Option<Nearest<'_>> {
-        let shape = self.item_shape(rid, item);
+        let placed = self.item_placed(rid, item);
         let mut best: Option<Nearest<'_>> = None;
         let mut bound = bound;
         if let Some((leaf, d)) = self.env_bvh.find_best(
             bound,
             |node, _| aabb_distance(&node.aabb(), &item.aabb),
-            |leaf, _| {
+            |leaf, best| {
                 let e = &self.env[leaf as usize];
-                distance(&item.pose, shape, &e.pose, &*e.part.shape)
+                let other = Placed { pose: &e.pose, shape: &*e.part.shape, hull: e.part.hull.as_deref() };
+                distance_below(placed, other, best)
             },
         ) {
             bound = d;
             let e = &self.env[leaf as usize];
             best = Some(Nearest { distance: d, id: Collider::Body(e.body), pose: e.pose, shape: &*e.part.shape });
         }
+        // Movable obstacles nearest bounding box first, so that the bound tightens early and
+        // the farther ones are skipped without an exact query.
+        let mut near: Vec<(f64, Obstacle<'_>)> = Vec::new();
         let _ = self.visit_dynamic(rid, |o| {
-            if aabb_distance(o.aabb, &item.aabb) < bound {
-                if let Some(d) = distance(&item.pose, shape, o.pose, o.shape) {
-                    if d < bound {
-                        bound = d;
-                        best = Some(Nearest { distance: d, id: o.id, pose: *o.pose, shape: o.shape });
-                    }
-                }
+            let lb = aabb_distance(o.aabb, &item.aabb);
+            if lb < bound {
+                near.push((lb, o));
             }
             ControlFlow::Continue(())
         });
+        near.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for (lb, o) in near {
+            if lb >= bound {
+                break;
+            }
+            if let Some(d) = distance_below(placed, o.placed(), bound) {
+                bound = d;
+                best = Some(Nearest { distance: d, id: o.id, pose: *o.pose, shape: o.shape });
+            }
+        }
         best
     }
 

@@ -1,0 +1,85 @@
+//! State and motion checks of the sphere model ([`SphereWorld`]): one state, a batch of
+//! states (per state), a motion (coarse to fine), and RRT-Connect on it, for core's 7-DoF sample
+//! arm in a small cupboard (table, shelf, divider, back wall: the stand-in scene of the
+//! standard suite, rebuilt here so the bench needs no other crate).
+//!
+//! ```sh
+//! cargo bench -p opengrasp-motion --bench validity -- --warm-up-time 1 --measurement-time 3
+//! ```
+
+// `criterion_group!` generates an undocumented public function.
+#![allow(missing_docs)]
+
+use std::hint::black_box;
+use std::sync::Arc;
+use std::time::Duration;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use nalgebra::{Isometry3, Vector3};
+use opengrasp_core::model::{samples, JointGroup};
+use opengrasp_motion::planners::RrtConnect;
+use opengrasp_motion::validity::{ObstacleBox, SphereWorld, StateValidityChecker};
+use opengrasp_motion::{Goal, MotionPlanner, PlanningProblem};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+const START: [f64; 7] = [1.4175, 1.026, -1.5041, 1.5464, -0.1228, -0.1075, 1.1446];
+const GOAL: [f64; 7] = [-1.4175, 1.026, 1.5041, 1.5464, 0.1228, -0.1075, -1.1446];
+
+fn cupboard() -> Vec<ObstacleBox> {
+    vec![
+        ObstacleBox::new("table", Isometry3::translation(0.65, 0.0, 0.225), Vector3::new(0.6, 1.2, 0.05)),
+        ObstacleBox::new("shelf", Isometry3::translation(0.65, 0.0, 0.85), Vector3::new(0.6, 1.2, 0.04)),
+        ObstacleBox::new("divider", Isometry3::translation(0.7, 0.0, 0.54), Vector3::new(0.5, 0.04, 0.58)),
+        ObstacleBox::new("back", Isometry3::translation(0.97, 0.0, 0.54), Vector3::new(0.04, 1.2, 0.58)),
+    ]
+}
+
+fn validity(c: &mut Criterion) {
+    let robot = Arc::new(samples::seven_dof_arm().expect("sample arm"));
+    let group = robot.group("arm").expect("arm group").clone();
+    let q_full = robot.home_configuration();
+    let world = SphereWorld::new(robot.clone(), group.clone(), q_full.clone(), Isometry3::identity(), cupboard())
+        .expect("sphere world");
+    let limits = JointGroup::limits(&group, &robot);
+    let mut rng = ChaCha8Rng::seed_from_u64(1);
+    let states: Vec<Vec<f64>> =
+        (0..64).map(|_| limits.iter().map(|&(lo, hi)| lo + (hi - lo) * rng.random::<f64>()).collect()).collect();
+    let mut k = 0;
+    c.bench_function("spheres_7dof/state_check", |b| {
+        b.iter(|| {
+            k = (k + 1) % states.len();
+            world.is_valid(black_box(&states[k]))
+        })
+    });
+    let flat: Vec<f64> = states.iter().flatten().copied().collect();
+    let mut out = vec![false; states.len()];
+    // One iteration checks 64 states: divide the time by 64 for the per-state figure.
+    c.bench_function("spheres_7dof/are_valid_64", |b| b.iter(|| world.are_valid(black_box(&flat), &mut out)));
+    c.bench_function("spheres_7dof/motion_start_goal", |b| {
+        b.iter(|| world.is_motion_valid(black_box(&START), black_box(&GOAL), 0.02))
+    });
+    let goal = Goal::Configuration(GOAL.to_vec());
+    let mut planner = RrtConnect::default();
+    let mut seed = 0u64;
+    c.bench_function("spheres_7dof/rrt_connect_plan", |b| {
+        b.iter(|| {
+            seed = (seed + 1) % 100;
+            let problem = PlanningProblem {
+                robot: &robot,
+                group: &group,
+                q_full: &q_full,
+                start: &START,
+                goal: &goal,
+                checker: &world,
+                time_limit: Duration::from_secs(10),
+                seed,
+                step: 0.02,
+            };
+            planner.plan(&problem).expect("solved")
+        })
+    });
+}
+
+criterion_group!(benches, validity);
+criterion_main!(benches);
