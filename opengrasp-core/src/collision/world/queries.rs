@@ -426,20 +426,7 @@ impl CollisionWorld {
     /// # Errors
     /// As [`in_collision`](Self::in_collision).
     pub fn link_distances_into(&self, robot: RobotId, q: &[f64], out: &mut Vec<f64>) -> Result<()> {
-        self.validate(robot, q)?;
-        let rid = robot.0;
-        out.clear();
-        out.resize(self.robots[rid].n_links(), f64::INFINITY);
-        with_scratch(|s| {
-            self.place(rid, q, s);
-            for item in &s.items {
-                let l = item.link.0;
-                if let Some(n) = self.item_min_distance(rid, item, out[l]) {
-                    out[l] = out[l].min(n.distance);
-                }
-            }
-        });
-        Ok(())
+        self.link_distances_where(robot, q, out, |_| true)
     }
 
     /// [`link_distances_into`](Self::link_distances_into) restricted to the links with
@@ -457,17 +444,26 @@ impl CollisionWorld {
         selected: &[bool],
         out: &mut Vec<f64>,
     ) -> Result<()> {
+        self.link_distances_where(robot, q, out, |l| selected.get(l).copied().unwrap_or(false))
+    }
+
+    /// Exact distance of every link `l` with `wanted(l)` to everything it can hit (`+inf` for
+    /// the others, which are not queried).
+    fn link_distances_where(
+        &self,
+        robot: RobotId,
+        q: &[f64],
+        out: &mut Vec<f64>,
+        wanted: impl Fn(usize) -> bool,
+    ) -> Result<()> {
         self.validate(robot, q)?;
         let rid = robot.0;
         out.clear();
         out.resize(self.robots[rid].n_links(), f64::INFINITY);
         with_scratch(|s| {
             self.place(rid, q, s);
-            for item in &s.items {
+            for item in s.items.iter().filter(|item| wanted(item.link.0)) {
                 let l = item.link.0;
-                if !selected.get(l).copied().unwrap_or(false) {
-                    continue;
-                }
                 if let Some(n) = self.item_min_distance(rid, item, out[l]) {
                     out[l] = out[l].min(n.distance);
                 }
