@@ -5,29 +5,31 @@
 //! matrices.
 
 use nalgebra::{Isometry3, Matrix3, Matrix4, Rotation3, Translation3, UnitQuaternion, Vector3};
-use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{
+    PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 
 use crate::errors::{Error, Result};
 
 /// `obj` as a read-only float64 array of dimension 1 (converted by numpy if needed).
 pub fn array1<'py>(obj: &Bound<'py, PyAny>, what: &str) -> Result<PyReadonlyArray1<'py, f64>> {
-    if let Ok(a) = obj.extract::<PyReadonlyArray1<'py, f64>>() {
-        return Ok(a);
-    }
-    let converted = obj
-        .py()
-        .import("numpy")
-        .and_then(|np| np.call_method1("ascontiguousarray", (obj, "float64")))
-        .map_err(|e| Error::input(format!("{what}: not a float array ({e})")))?;
-    converted
-        .extract::<PyReadonlyArray1<'py, f64>>()
-        .map_err(|_| Error::input(format!("{what}: expected a 1-D array, got {}", shape_of(&converted))))
+    float_array(obj, what, 1)
 }
 
 /// `obj` as a read-only float64 array of dimension 2 (converted by numpy if needed).
 pub fn array2<'py>(obj: &Bound<'py, PyAny>, what: &str) -> Result<PyReadonlyArray2<'py, f64>> {
-    if let Ok(a) = obj.extract::<PyReadonlyArray2<'py, f64>>() {
+    float_array(obj, what, 2)
+}
+
+/// `obj` as a read-only float64 array of dimension `D` (`rank` for the message), converted by
+/// numpy (`ascontiguousarray(obj, "float64")`) when it is not one already.
+fn float_array<'py, D: numpy::ndarray::Dimension>(
+    obj: &Bound<'py, PyAny>,
+    what: &str,
+    rank: usize,
+) -> Result<PyReadonlyArray<'py, f64, D>> {
+    if let Ok(a) = obj.extract::<PyReadonlyArray<'py, f64, D>>() {
         return Ok(a);
     }
     let converted = obj
@@ -36,8 +38,8 @@ pub fn array2<'py>(obj: &Bound<'py, PyAny>, what: &str) -> Result<PyReadonlyArra
         .and_then(|np| np.call_method1("ascontiguousarray", (obj, "float64")))
         .map_err(|e| Error::input(format!("{what}: not a float array ({e})")))?;
     converted
-        .extract::<PyReadonlyArray2<'py, f64>>()
-        .map_err(|_| Error::input(format!("{what}: expected a 2-D array, got {}", shape_of(&converted))))
+        .extract::<PyReadonlyArray<'py, f64, D>>()
+        .map_err(|_| Error::input(format!("{what}: expected a {rank}-D array, got {}", shape_of(&converted))))
 }
 
 fn shape_of(obj: &Bound<'_, PyAny>) -> String {
