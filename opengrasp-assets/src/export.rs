@@ -99,9 +99,21 @@ pub fn kitchen_obj() -> Result<String> {
 /// Any scene as Wavefront OBJ text (primitives tessellated, world coordinates).
 ///
 /// # Errors
+/// As [`scene_meshes`].
+pub fn scene_obj(scene: &Scene) -> Result<String> {
+    let named = scene_meshes(scene)?;
+    let refs: Vec<(&str, &TriangleMesh)> = named.iter().map(|(n, m)| (n.as_str(), m)).collect();
+    Ok(mesh_io::write_obj(&refs))
+}
+
+/// Every shape of a scene as a named triangle mesh in world coordinates (primitives
+/// tessellated): static bodies, then objects, then each robot's links at its configuration
+/// (`robot/link`). A body or link with several shapes gives `name_0`, `name_1`, ...
+///
+/// # Errors
 /// [`AssetError::Core`] if a robot's configuration is invalid or a shape cannot be
 /// tessellated.
-pub fn scene_obj(scene: &Scene) -> Result<String> {
+pub fn scene_meshes(scene: &Scene) -> Result<Vec<(String, TriangleMesh)>> {
     let mut named: Vec<(String, TriangleMesh)> = Vec::new();
     let mut add = |name: String, pose: &Isometry3<f64>, shapes: &[Shape]| -> Result<()> {
         for (i, s) in shapes.iter().enumerate() {
@@ -123,8 +135,7 @@ pub fn scene_obj(scene: &Scene) -> Result<String> {
             add(format!("{}/{}", r.name, link.name), &(r.base_pose * pose), &link.collisions)?;
         }
     }
-    let refs: Vec<(&str, &TriangleMesh)> = named.iter().map(|(n, m)| (n.as_str(), m)).collect();
-    Ok(mesh_io::write_obj(&refs))
+    Ok(named)
 }
 
 /// A closed triangle mesh of a geometry in its local frame (URDF conventions: cylinders and

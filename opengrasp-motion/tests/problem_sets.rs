@@ -138,6 +138,10 @@ fn json_set_with_every_shape_loads_and_round_trips() {
     let world = inst.checker.clearance(&inst.start);
     assert!(world.is_some_and(|c| c > 0.0 && c < 1.0), "clearance {world:?}");
     assert_eq!(loaded.problem_name(0), Some("0"));
+    // The problem's world (what viewers and exporters draw): the five obstacles and the robot.
+    let scene = loaded.scene(0).unwrap();
+    assert_eq!((scene.bodies().len(), scene.robots().len()), (5, 1));
+    assert!(loaded.scene(1).is_err());
     assert!(matches!(loaded.instance(1), Err(MotionError::InvalidParameter { .. })));
 }
 

@@ -8,6 +8,7 @@ use nalgebra::{Isometry3, Matrix3, Matrix4, Rotation3, Translation3, UnitQuatern
 use numpy::{
     PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
 };
+use opengrasp_core::model::TriangleMesh;
 use pyo3::prelude::*;
 
 use crate::errors::{Error, Result};
@@ -162,4 +163,16 @@ pub fn json_to_py<'py>(py: Python<'py>, text: &str) -> Result<Bound<'py, PyAny>>
 pub fn to_py<'py, T: serde::Serialize>(py: Python<'py>, value: &T) -> Result<Bound<'py, PyAny>> {
     let text = serde_json::to_string(value)?;
     json_to_py(py, &text)
+}
+
+/// A mesh's vertices as a `(V, 3)` float64 array.
+pub fn mesh_vertices<'py>(py: Python<'py>, mesh: &TriangleMesh) -> Result<Bound<'py, PyArray2<f64>>> {
+    let v: Vec<Vec<f64>> = mesh.vertices().iter().map(|p| vec![p.x, p.y, p.z]).collect();
+    array_2d(py, &v, 3)
+}
+
+/// A mesh's triangles as a `(T, 3)` int64 array of vertex indices.
+pub fn mesh_triangles<'py>(py: Python<'py>, mesh: &TriangleMesh) -> Result<Bound<'py, PyArray2<i64>>> {
+    let flat: Vec<i64> = mesh.triangles().iter().flat_map(|t| t.map(i64::from)).collect();
+    PyArray1::from_vec(py, flat).reshape([mesh.triangles().len(), 3]).map_err(Error::input)
 }

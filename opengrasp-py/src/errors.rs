@@ -147,6 +147,10 @@ fn motion_kind(e: &MotionError) -> Kind {
         | MotionError::InvalidState { .. }
         | MotionError::InvalidParameter { .. }
         | MotionError::UnsupportedGoal { .. } => Kind::Input,
+        MotionError::ProblemSetIo { .. }
+        | MotionError::ProblemSetTooLarge { .. }
+        | MotionError::ProblemSetSyntax { .. }
+        | MotionError::ProblemSetInvalid { .. } => Kind::Model,
         _ => Kind::Planning,
     }
 }

@@ -2,7 +2,7 @@
 //! closure, Ferrari-Canny ε, volume) and the benchmark's grasp evaluator on a hand pose.
 
 use nalgebra::{Point3, Unit};
-use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use numpy::{PyArray1, PyArray2};
 use opengrasp_core::hand::Hand;
 use opengrasp_core::object::ObjectModel;
 use opengrasp_grasp::evaluator::{EvaluatorOptions, GraspEvaluator};
@@ -10,7 +10,7 @@ use opengrasp_grasp::planners::GraspCandidate;
 use opengrasp_grasp::{Contact, ContactModel, ContactType, GraspQuality, ObjectFrame, QualityOptions};
 use pyo3::prelude::*;
 
-use crate::convert::{array, array_2d, isometry, to_py, vector3, with_rows};
+use crate::convert::{array, isometry, mesh_triangles, mesh_vertices, to_py, vector3, with_rows};
 use crate::errors::{guard, Error, Result};
 use crate::planners::PyHandInfo;
 use crate::robot::PyRobot;
@@ -93,14 +93,12 @@ impl PyObject {
     /// Surface vertices, `(V, 3)`.
     #[getter]
     fn vertices<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let v: Vec<Vec<f64>> = self.object.mesh.vertices().iter().map(|p| vec![p.x, p.y, p.z]).collect();
-        Ok(array_2d(py, &v, 3)?)
+        Ok(mesh_vertices(py, &self.object.mesh)?)
     }
     /// Triangles, `(T, 3)` vertex indices.
     #[getter]
     fn triangles<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<i64>>> {
-        let flat: Vec<i64> = self.object.mesh.triangles().iter().flat_map(|t| t.map(i64::from)).collect();
-        Ok(PyArray1::from_vec(py, flat).reshape([self.object.mesh.triangles().len(), 3]).map_err(Error::input)?)
+        Ok(mesh_triangles(py, &self.object.mesh)?)
     }
     fn __repr__(&self) -> String {
         format!("ObjectModel({:?}, mass={})", self.object.name, self.object.mass())

@@ -5,7 +5,8 @@
 //!
 //! - the SDK with numpy arrays: [`robot`] (URDF/SRDF, FK, Jacobian, IK), [`scene`] and
 //!   [`validity`] (standard motion scenes, state validity single and batched, motion validity,
-//!   clearance, path validation and metrics), [`grasp`] (stock hands and objects, contacts →
+//!   clearance, path validation and metrics), [`world`] (the kitchen's geometry, motion
+//!   problem sets from JSON or MotionBenchMaker files), [`grasp`] (stock hands and objects, contacts →
 //!   force closure, ε and volume, the grasp evaluator on a hand pose);
 //! - Python planners in the standard suite: [`planners`] wraps Python objects as
 //!   `GraspPlanner` / `MotionPlanner`, [`suite`] runs them next to the Rust reference planners
@@ -25,6 +26,7 @@ pub mod robot;
 pub mod scene;
 pub mod suite;
 pub mod validity;
+pub mod world;
 
 use pyo3::prelude::*;
 
@@ -35,6 +37,9 @@ fn _opengrasp(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<robot::PyRobot>()?;
     m.add_class::<scene::PyScene>()?;
     m.add_function(wrap_pyfunction!(scene::scene_names, m)?)?;
+    m.add_class::<world::PyProblemSet>()?;
+    m.add_function(wrap_pyfunction!(world::load_problem_sets, m)?)?;
+    m.add_function(wrap_pyfunction!(world::kitchen, m)?)?;
     m.add_class::<grasp::PyHand>()?;
     m.add_class::<grasp::PyObject>()?;
     m.add_class::<grasp::PyGraspEvaluator>()?;

@@ -54,6 +54,11 @@ pub struct PyScene {
 }
 
 impl PyScene {
+    /// A scene object for an instance built elsewhere (e.g. a problem of a problem set).
+    pub fn from_instance(name: String, instance: SceneInstance) -> Self {
+        Self { name, instance }
+    }
+
     fn view<R>(&self, f: impl FnOnce(&View<'_>) -> Result<R>) -> Result<R> {
         let i = &self.instance;
         f(&View { checker: &*i.checker, robot: &i.robot, group: &i.group, q_full: &i.q_full })

@@ -50,6 +50,8 @@ pub struct PySuite {
     runs: usize,
     seed: u64,
     time_limit: Option<f64>,
+    /// The seed the problem sets were added with (their run r is seed + r).
+    problem_set_seed: Option<u64>,
 }
 
 impl PySuite {
@@ -77,10 +79,22 @@ impl PySuite {
     fn py_new(size: Option<&str>) -> PyResult<Self> {
         let defaults = BenchmarkOptions::default();
         Ok(match size {
-            None => Self { suite: Some(Suite::new()), runs: defaults.runs, seed: defaults.seed, time_limit: None },
+            None => Self {
+                suite: Some(Suite::new()),
+                runs: defaults.runs,
+                seed: defaults.seed,
+                time_limit: None,
+                problem_set_seed: None,
+            },
             Some(s) => {
                 let s = self::size(s)?;
-                Self { suite: Some(Suite::standard(s)), runs: s.runs(), seed: defaults.seed, time_limit: None }
+                Self {
+                    suite: Some(Suite::standard(s)),
+                    runs: s.runs(),
+                    seed: defaults.seed,
+                    time_limit: None,
+                    problem_set_seed: None,
+                }
             }
         })
     }
@@ -200,8 +214,30 @@ impl PySuite {
         Ok(slf)
     }
 
+    /// Adds the motion problem sets at `path` (see `load_problem_sets`) as scenes with the
+    /// reference planners (RRT-Connect, PRM; IK-RRT on sets with pose goals) and sets the runs
+    /// to the largest set's size, so each planner plans every problem once (run r is problem
+    /// r). Set the seed first: it cannot change once problem sets are in.
+    fn problem_sets<'py>(
+        mut slf: PyRefMut<'py, Self>,
+        py: Python<'py>,
+        path: PathBuf,
+    ) -> PyResult<PyRefMut<'py, Self>> {
+        let sets = py.detach(|| guard(|| Ok(opengrasp_bench::problem_sets::load_problem_sets(&path)?)))?;
+        let seed = slf.seed;
+        slf.runs = sets.iter().map(|s| s.len()).max().unwrap_or(0);
+        slf.problem_set_seed = Some(seed);
+        slf.update(|suite| Ok(suite.with_problem_sets(sets, seed)))?;
+        Ok(slf)
+    }
+
     /// Sets the base seed of both benchmarks.
     fn seed(mut slf: PyRefMut<'_, Self>, seed: u64) -> PyResult<PyRefMut<'_, Self>> {
+        if slf.problem_set_seed.is_some_and(|s| s != seed) {
+            return Err(
+                Error::input("seed: set the seed before adding problem sets (their runs follow the seed)").into()
+            );
+        }
         slf.seed = seed;
         slf.update(|suite| Ok(suite.seed(seed)))?;
         Ok(slf)

@@ -42,14 +42,18 @@ impl View<'_> {
         Ok(self.checker.is_valid(&q))
     }
 
-    /// `is_valid` of every row of an `(N, dim)` array, as a bool array.
+    /// `is_valid` of every row of an `(N, dim)` array, as a bool array (one call of the
+    /// checker's batched [`StateValidityChecker::are_valid`]).
     pub fn is_valid_batch<'py>(&self, py: Python<'py>, qs: &Bound<'py, PyAny>) -> Result<Bound<'py, PyArray1<bool>>> {
         let dim = self.checker.dim();
         let out = with_rows(qs, "qs", dim, |data, n| {
             Ok(if dim == 0 {
                 vec![self.checker.is_valid(&[]); n]
             } else {
-                data.chunks_exact(dim).map(|q| self.checker.is_valid(q)).collect()
+                // The checker's batched method: vectorised checkers test several states at once.
+                let mut out = vec![false; n];
+                self.checker.are_valid(data, &mut out);
+                out
             })
         })?;
         Ok(PyArray1::from_vec(py, out))

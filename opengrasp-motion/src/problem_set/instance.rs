@@ -5,7 +5,7 @@ use std::sync::Arc;
 use nalgebra::Isometry3;
 use opengrasp_core::collision::CollisionWorld;
 use opengrasp_core::model::{samples, JointGroup, LinkId, Robot};
-use opengrasp_core::scene::{Scene, StaticBody};
+use opengrasp_core::scene::{RobotId, Scene, StaticBody};
 use opengrasp_core::srdf::Srdf;
 use opengrasp_core::urdf::{self, LoadOptions, Visuals};
 
@@ -233,6 +233,32 @@ impl LoadedProblemSet {
         self.problems.get(i).map(|p| &p.goal)
     }
 
+    /// Problem `i`'s world: the robot (at the base pose, in the problem's start
+    /// configuration) among the problem's obstacles — what a viewer or exporter draws.
+    ///
+    /// # Errors
+    /// As [`LoadedProblemSet::instance`].
+    pub fn scene(&self, i: usize) -> Result<Scene> {
+        Ok(self.world(self.problem(i)?)?.0)
+    }
+
+    fn problem(&self, i: usize) -> Result<&Resolved> {
+        self.problems.get(i).ok_or_else(|| crate::MotionError::InvalidParameter {
+            name: "problem",
+            reason: format!("index {i} out of range (the set has {})", self.problems.len()),
+        })
+    }
+
+    fn world(&self, p: &Resolved) -> Result<(Scene, RobotId)> {
+        let mut scene = Scene::new(format!("{} / {}", self.name, p.name));
+        let id = scene.add_robot(self.robot.name(), self.robot.clone(), self.base_pose)?;
+        scene.set_robot_configuration(id, &p.q_full)?;
+        for b in &p.bodies {
+            scene.add_body(b.clone())?;
+        }
+        Ok((scene, id))
+    }
+
     /// Problem `i` as a scene instance: the robot at the base pose among the problem's
     /// obstacles, validated by the exact [`CollisionChecker`] (the problem's allowed pairs
     /// added to the robot's).
@@ -242,16 +268,8 @@ impl LoadedProblemSet {
     /// range; core errors building the scene or collision world (e.g. a configuration outside
     /// the joints outside the group's limits).
     pub fn instance(&self, i: usize) -> Result<SceneInstance> {
-        let p = self.problems.get(i).ok_or_else(|| crate::MotionError::InvalidParameter {
-            name: "problem",
-            reason: format!("index {i} out of range (the set has {})", self.problems.len()),
-        })?;
-        let mut scene = Scene::new(format!("{} / {}", self.name, p.name));
-        let id = scene.add_robot(self.robot.name(), self.robot.clone(), self.base_pose)?;
-        scene.set_robot_configuration(id, &p.q_full)?;
-        for b in &p.bodies {
-            scene.add_body(b.clone())?;
-        }
+        let p = self.problem(i)?;
+        let (scene, id) = self.world(p)?;
         let mut world = CollisionWorld::new(&scene)?;
         for &(a, b) in &p.allowed {
             world.allow_collision(id, a, b)?;
