@@ -22,7 +22,7 @@ use std::cell::Cell;
 
 pub use bound::MotionBound;
 pub use exact::CollisionChecker;
-pub use spheres::{ObstacleBox, SphereWorld};
+pub use spheres::{ObstacleBox, SelfCollisionPairs, SphereWorld};
 
 /// Decides whether group configurations are valid (collision-free).
 ///

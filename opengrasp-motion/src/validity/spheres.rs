@@ -38,6 +38,23 @@ impl ObstacleBox {
     }
 }
 
+/// Which link pairs a [`SphereWorld`] checks for self-collision.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SelfCollisionPairs {
+    /// Pairs the robot does not allow ([`Robot::is_collision_allowed`]) and whose sphere covers
+    /// do not overlap at the reference configuration (default; for robots without an SRDF,
+    /// whose only allowed pairs are joint-adjacent links).
+    #[default]
+    NotOverlappingAtReference,
+    /// Exactly the pairs the robot does not allow: joint-adjacent links and the SRDF's
+    /// `<disable_collisions>` (applied to the robot by
+    /// [`Srdf::apply`](opengrasp_core::srdf::Srdf::apply)) are skipped, every other pair of
+    /// links with collision geometry is checked — the same matrix as the exact checker's.
+    /// A checked pair whose covers overlap at the reference configuration makes that
+    /// configuration invalid.
+    Robot,
+}
+
 /// A robot whose links are covered by spheres, among oriented boxes: closed-form, conservative
 /// distances for tests and stand-in scenes.
 ///
@@ -46,7 +63,9 @@ impl ObstacleBox {
 /// by its bounding box), so the covered robot contains the real one and every distance is a
 /// lower bound on the true distance. Self-collision is checked between sphere sets of link
 /// pairs that are neither allowed by [`Robot::is_collision_allowed`] nor already overlapping at
-/// the reference configuration (like an SRDF's "default" disabled pairs).
+/// the reference configuration (like an SRDF's "default" disabled pairs), or, with
+/// [`SelfCollisionPairs::Robot`] ([`SphereWorld::with_self_collision`]), exactly the pairs of
+/// the robot's SRDF.
 ///
 /// The clearance is the smallest distance from a link the group moves to a box. For continuous
 /// checking, [`StateValidityChecker::link_distances`] reports per link the
@@ -155,22 +174,28 @@ impl SphereWorld {
         }
         let bound = MotionBound::new(&robot, &group, &links, &points)?;
         let soa = SphereSoa::new(&spheres, &ranges, &boxes);
-        let mut world =
+        let world =
             Self { robot, group, q_full, base_pose, spheres, ranges, links, pairs: Vec::new(), boxes, bound, soa };
-        let reference = world.q_full.clone();
-        let centres = world.sphere_centres(&reference);
-        let n = world.links.len();
+        Ok(world.with_self_collision(SelfCollisionPairs::default()))
+    }
+
+    /// This world checking the self-collision pairs chosen by `pairs`.
+    pub fn with_self_collision(mut self, pairs: SelfCollisionPairs) -> Self {
+        let reference = self.q_full.clone();
+        let centres = self.sphere_centres(&reference);
+        let n = self.links.len();
+        self.pairs.clear();
         for a in 0..n {
             for b in a + 1..n {
-                if world.robot.is_collision_allowed(world.links[a], world.links[b]) {
+                if self.robot.is_collision_allowed(self.links[a], self.links[b]) {
                     continue;
                 }
-                if world.pair_distance(&centres, a, b) > 0.0 {
-                    world.pairs.push((a, b));
+                if pairs == SelfCollisionPairs::Robot || self.pair_distance(&centres, a, b) > 0.0 {
+                    self.pairs.push((a, b));
                 }
             }
         }
-        Ok(world)
+        self
     }
 
     /// The robot.
