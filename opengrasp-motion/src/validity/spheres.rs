@@ -8,6 +8,7 @@ use opengrasp_core::model::{Geometry, JointGroup, LinkId, Robot};
 
 use crate::error::Result;
 
+use super::cover::cover_box;
 use super::soa::{with_scratch, Scratch, SphereSoa};
 use super::{MotionBound, StateValidityChecker};
 
@@ -107,25 +108,6 @@ fn cover_shape(geometry: &Geometry, origin: &Isometry3<f64>, out: &mut Vec<(Poin
             let centre = nalgebra::center(&lo, &hi);
             let o = origin * Isometry3::translation(centre.x, centre.y, centre.z);
             cover_box(&((hi - lo) * 0.5), &o, out);
-        }
-    }
-}
-
-fn cover_box(h: &Vector3<f64>, origin: &Isometry3<f64>, out: &mut Vec<(Point3<f64>, f64)>) {
-    let cell = h.min().max(1e-3) * 2.0;
-    let n = h.map(|e| ((2.0 * e / cell).ceil().max(1.0)) as usize);
-    let size = Vector3::new(2.0 * h.x / n.x as f64, 2.0 * h.y / n.y as f64, 2.0 * h.z / n.z as f64);
-    let r = size.norm() * 0.5;
-    for i in 0..n.x {
-        for j in 0..n.y {
-            for k in 0..n.z {
-                let c = Point3::new(
-                    -h.x + size.x * (i as f64 + 0.5),
-                    -h.y + size.y * (j as f64 + 0.5),
-                    -h.z + size.z * (k as f64 + 0.5),
-                );
-                out.push((origin * c, r));
-            }
         }
     }
 }
