@@ -6,10 +6,12 @@ use std::f64::consts::TAU;
 use std::sync::Arc;
 
 use nalgebra::{Isometry3, Point3, UnitQuaternion, Vector3};
-use opengrasp_core::model::{JointGroup, TriangleMesh};
+use opengrasp_core::collision::CollisionWorld;
+use opengrasp_core::model::{Geometry, JointGroup, JointKind, JointSpec, Link, RobotBuilder, Shape, TriangleMesh};
+use opengrasp_core::scene::{Scene, StaticBody};
 use opengrasp_core::urdf::{self, InMemoryResolver};
 use opengrasp_motion::validity::cover::{bounding_box_cover, surface_distance, voxel_cover, SphereCover};
-use opengrasp_motion::validity::{ObstacleBox, SphereWorld, StateValidityChecker};
+use opengrasp_motion::validity::{CollisionChecker, MeshCover, ObstacleBox, SphereWorld, StateValidityChecker};
 use opengrasp_motion::MotionError;
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
@@ -174,4 +176,80 @@ fn spherized_urdf_is_used_directly() {
     assert!(!world.is_valid(&[touch + 1e-6]));
     let d = world.clearance(&[0.0]).unwrap();
     assert!((d - 0.32).abs() < 1e-9, "clearance {d}: the 0.05 spheres at x 0 are 0.32 m from the wall");
+}
+
+/// A one-joint arm whose link is a cylinder mesh swinging towards a wall: both mesh covers
+/// accept only states the exact checker accepts; the voxel cover rejects only states within
+/// its overhang bound of contact, and accepts more than the bounding-box grid.
+#[test]
+fn voxel_mesh_cover_is_sound_and_tighter_in_a_sphere_world() {
+    let mesh = Arc::new(cylinder(0.05, 0.4, 16));
+    // Tilted in the link, so its bounding box is loose.
+    let origin =
+        Isometry3::from_parts(Vector3::new(0.0, 0.0, 0.25).into(), UnitQuaternion::from_euler_angles(0.0, 0.5, 0.0));
+    let link = Link::new("arm").with_shape(Shape::new(origin, Geometry::Mesh(mesh)));
+    let mut robot = RobotBuilder::new("swing")
+        .link(Link::new("base"))
+        .link(link)
+        .joint(JointSpec::new("j", JointKind::Revolute, "base", "arm").axis(Vector3::y()).limits(-1.5, 1.5, 1.0, 1.0))
+        .build()
+        .unwrap();
+    robot.add_group("arm", &["j"]).unwrap();
+    let robot = Arc::new(robot);
+    let group = JointGroup::all(&robot, "arm").unwrap();
+    let wall_pose = Isometry3::translation(0.5, 0.0, 0.0);
+    let wall = ObstacleBox::new("wall", wall_pose, Vector3::new(0.2, 1.0, 2.0));
+    let sphere_world = |meshes| {
+        SphereWorld::with_mesh_cover(
+            robot.clone(),
+            group.clone(),
+            vec![0.0],
+            Isometry3::identity(),
+            vec![wall.clone()],
+            meshes,
+        )
+        .unwrap()
+    };
+    let (boxed, cell) = (sphere_world(MeshCover::BoundingBox), 0.01);
+    let voxels = sphere_world(MeshCover::Voxels { cell });
+    assert!(voxels.sphere_count() > boxed.sphere_count());
+    let mut scene = Scene::new("wall");
+    let id = scene.add_robot("swing", robot.clone(), Isometry3::identity()).unwrap();
+    scene
+        .add_body(StaticBody::new("wall", wall_pose, vec![Shape::at_origin(Geometry::cuboid(0.2, 1.0, 2.0))]))
+        .unwrap();
+    let world = Arc::new(CollisionWorld::new(&scene).unwrap());
+    let exact = CollisionChecker::new(world, id, robot.clone(), group, vec![0.0]).unwrap();
+    let (mut by_voxels, mut by_box) = (0, 0);
+    for i in 0..=3000 {
+        let q = [-1.5 + 0.001 * f64::from(i)];
+        let clearance = exact.clearance(&q).unwrap();
+        if voxels.is_valid(&q) {
+            by_voxels += 1;
+            assert!(exact.is_valid(&q), "{q:?}");
+        } else {
+            assert!(clearance <= 2.0 * 3f64.sqrt() * cell + 1e-6, "{q:?}: rejected {clearance} m from the wall");
+        }
+        if boxed.is_valid(&q) {
+            by_box += 1;
+            assert!(exact.is_valid(&q), "{q:?}");
+        }
+    }
+    println!(
+        "of 3001 swing angles: voxel cover ({} spheres) accepts {by_voxels}, box grid ({} spheres) {by_box}",
+        voxels.sphere_count(),
+        boxed.sphere_count()
+    );
+    assert!(by_voxels > by_box && by_box > 1000, "voxels accept {by_voxels}, box grid {by_box}");
+    assert!(matches!(
+        SphereWorld::with_mesh_cover(
+            robot.clone(),
+            JointGroup::all(&robot, "arm").unwrap(),
+            vec![0.0],
+            Isometry3::identity(),
+            Vec::new(),
+            MeshCover::Voxels { cell: -1.0 }
+        ),
+        Err(MotionError::InvalidParameter { name: "cell", .. })
+    ));
 }

@@ -24,7 +24,7 @@ use std::cell::Cell;
 
 pub use bound::MotionBound;
 pub use exact::CollisionChecker;
-pub use spheres::{ObstacleBox, SelfCollisionPairs, SphereWorld};
+pub use spheres::{MeshCover, ObstacleBox, SelfCollisionPairs, SphereWorld};
 
 /// Decides whether group configurations are valid (collision-free).
 ///

@@ -8,7 +8,7 @@ use opengrasp_core::model::{Geometry, JointGroup, LinkId, Robot};
 
 use crate::error::Result;
 
-use super::cover::cover_box;
+use super::cover::{self, cover_box};
 use super::soa::{with_scratch, Scratch, SphereSoa};
 use super::{MotionBound, StateValidityChecker};
 
@@ -61,7 +61,9 @@ pub enum SelfCollisionPairs {
 ///
 /// Each collision shape is covered by spheres (a capsule or cylinder of radius `r` by spheres
 /// along its axis at spacing `s ≤ r`, radius `√(r² + s²/4)`; a box by a grid of spheres; a mesh
-/// by its bounding box), so the covered robot contains the real one and every distance is a
+/// by its bounding box or, with [`MeshCover::Voxels`], by the cells its surface touches), so
+/// the covered robot contains the real one (with voxels: its surface, which suffices unless an
+/// obstacle fits wholly inside a link) and every distance is a
 /// lower bound on the true distance. Self-collision is checked between sphere sets of link
 /// pairs that are neither allowed by [`Robot::is_collision_allowed`] nor already overlapping at
 /// the reference configuration (like an SRDF's "default" disabled pairs), or, with
@@ -90,7 +92,26 @@ pub struct SphereWorld {
     soa: SphereSoa,
 }
 
-fn cover_shape(geometry: &Geometry, origin: &Isometry3<f64>, out: &mut Vec<(Point3<f64>, f64)>) {
+/// How a [`SphereWorld`] covers mesh collision shapes (other shapes have closed-form covers).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum MeshCover {
+    /// A grid of spheres over the mesh's bounding box ([`cover::bounding_box_cover`]; default).
+    #[default]
+    BoundingBox,
+    /// One sphere per grid cell of this edge (m) the surface touches
+    /// ([`cover::voxel_cover`]): every surface point covered, overhang at most `2√3 · cell`.
+    Voxels {
+        /// Cell edge (m).
+        cell: f64,
+    },
+}
+
+fn cover_shape(
+    geometry: &Geometry,
+    origin: &Isometry3<f64>,
+    meshes: MeshCover,
+    out: &mut Vec<(Point3<f64>, f64)>,
+) -> Result<()> {
     match geometry {
         Geometry::Sphere { radius } => out.push((origin * Point3::origin(), *radius)),
         Geometry::Capsule { radius, length } | Geometry::Cylinder { radius, length } => {
@@ -104,12 +125,14 @@ fn cover_shape(geometry: &Geometry, origin: &Isometry3<f64>, out: &mut Vec<(Poin
         }
         Geometry::Box { half_extents } => cover_box(half_extents, origin, out),
         Geometry::Mesh(mesh) => {
-            let (lo, hi) = mesh.aabb();
-            let centre = nalgebra::center(&lo, &hi);
-            let o = origin * Isometry3::translation(centre.x, centre.y, centre.z);
-            cover_box(&((hi - lo) * 0.5), &o, out);
+            let cover = match meshes {
+                MeshCover::BoundingBox => cover::bounding_box_cover(mesh),
+                MeshCover::Voxels { cell } => cover::voxel_cover(mesh, cell)?,
+            };
+            out.extend(cover.spheres.iter().map(|(c, r)| (origin * c, *r)));
         }
     }
+    Ok(())
 }
 
 impl SphereWorld {
@@ -125,6 +148,22 @@ impl SphereWorld {
         base_pose: Isometry3<f64>,
         boxes: Vec<ObstacleBox>,
     ) -> Result<Self> {
+        Self::with_mesh_cover(robot, group, q_full, base_pose, boxes, MeshCover::default())
+    }
+
+    /// Like [`SphereWorld::new`], covering mesh shapes as `meshes` says.
+    ///
+    /// # Errors
+    /// As [`SphereWorld::new`]; [`MotionError::InvalidParameter`](crate::MotionError::InvalidParameter)
+    /// for a bad voxel cell.
+    pub fn with_mesh_cover(
+        robot: Arc<Robot>,
+        group: JointGroup,
+        q_full: Vec<f64>,
+        base_pose: Isometry3<f64>,
+        boxes: Vec<ObstacleBox>,
+        meshes: MeshCover,
+    ) -> Result<Self> {
         robot.validate_configuration(&q_full)?;
         let mut links = Vec::new();
         let mut spheres = Vec::new();
@@ -137,7 +176,7 @@ impl SphereWorld {
             }
             buf.clear();
             for shape in &link.collisions {
-                cover_shape(&shape.geometry, &shape.origin, &mut buf);
+                cover_shape(&shape.geometry, &shape.origin, meshes, &mut buf)?;
             }
             let k = links.len();
             let start = spheres.len();
