@@ -15,22 +15,28 @@ use std::time::Duration;
 use criterion::{criterion_group, criterion_main, Criterion};
 use opengrasp_bench::scenes::{armar_standard_scene, standard_scene, CheckerKind};
 use opengrasp_motion::benchmark::BenchmarkScene;
-use opengrasp_motion::planners::RrtConnect;
+use opengrasp_motion::planners::{NeighborStructure, RrtConnect};
 use opengrasp_motion::smoothing::{repair, shortcut, ShortcutOptions};
 use opengrasp_motion::MotionPlanner;
 
 fn bench_scene(c: &mut Criterion, id: &str, scene: BenchmarkScene) {
     let instance = (scene.generate)(0).expect("scene instance");
+    // Cycle through 100 seeds so the measurement averages over the planner's randomness; the
+    // kd-tree (default) and the linear scan give the same paths, only the time differs.
+    for (name, neighbors) in
+        [("rrt_connect_plan", NeighborStructure::KdTree), ("rrt_connect_plan_linear_nn", NeighborStructure::LinearScan)]
+    {
+        let mut planner = RrtConnect { neighbors, ..RrtConnect::default() };
+        let mut seed = 0u64;
+        c.bench_function(&format!("{id}/{name}"), |b| {
+            b.iter(|| {
+                seed = (seed + 1) % 100;
+                let problem = instance.problem(&*instance.checker, Duration::from_secs(10), seed, 0.02);
+                planner.plan(&problem).expect("solved")
+            })
+        });
+    }
     let mut planner = RrtConnect::default();
-    // Cycle through 100 seeds so the measurement averages over the planner's randomness.
-    let mut seed = 0u64;
-    c.bench_function(&format!("{id}/rrt_connect_plan"), |b| {
-        b.iter(|| {
-            seed = (seed + 1) % 100;
-            let problem = instance.problem(&*instance.checker, Duration::from_secs(10), seed, 0.02);
-            planner.plan(&problem).expect("solved")
-        })
-    });
     // Post-processing as the harness runs it (repair, then shortcut with every validator's
     // check), on the paths of 10 seeds, cycling.
     let paths: Vec<Vec<Vec<f64>>> = (0..10)

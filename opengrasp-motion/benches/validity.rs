@@ -1,7 +1,8 @@
 //! State and motion checks of the sphere model ([`SphereWorld`]): one state, a batch of
-//! states (per state), a motion (coarse to fine), and RRT-Connect on it, for core's 7-DoF sample
+//! states (per state), a motion (coarse to fine), and RRT-Connect on it (kd-tree and linear-scan nearest neighbours), for core's 7-DoF sample
 //! arm in a small cupboard (table, shelf, divider, back wall: the stand-in scene of the
-//! standard suite, rebuilt here so the bench needs no other crate).
+//! standard suite, rebuilt here so the bench needs no other crate), and one nearest-neighbour
+//! query among 10,000 configurations.
 //!
 //! ```sh
 //! cargo bench -p opengrasp-motion --bench validity -- --warm-up-time 1 --measurement-time 3
@@ -17,7 +18,8 @@ use std::time::Duration;
 use criterion::{criterion_group, criterion_main, Criterion};
 use nalgebra::{Isometry3, Vector3};
 use opengrasp_core::model::{samples, JointGroup};
-use opengrasp_motion::planners::RrtConnect;
+use opengrasp_motion::nearest::{KdTree, LinearScan, NearestNeighbors};
+use opengrasp_motion::planners::{NeighborStructure, RrtConnect};
 use opengrasp_motion::validity::{ObstacleBox, SphereWorld, StateValidityChecker};
 use opengrasp_motion::{Goal, MotionPlanner, PlanningProblem};
 use rand::{Rng, SeedableRng};
@@ -60,26 +62,54 @@ fn validity(c: &mut Criterion) {
         b.iter(|| world.is_motion_valid(black_box(&START), black_box(&GOAL), 0.02))
     });
     let goal = Goal::Configuration(GOAL.to_vec());
-    let mut planner = RrtConnect::default();
-    let mut seed = 0u64;
-    c.bench_function("spheres_7dof/rrt_connect_plan", |b| {
-        b.iter(|| {
-            seed = (seed + 1) % 100;
-            let problem = PlanningProblem {
-                robot: &robot,
-                group: &group,
-                q_full: &q_full,
-                start: &START,
-                goal: &goal,
-                checker: &world,
-                time_limit: Duration::from_secs(10),
-                seed,
-                step: 0.02,
-            };
-            planner.plan(&problem).expect("solved")
-        })
-    });
+    // Same paths with either nearest-neighbour structure; only the time differs.
+    for (name, neighbors) in
+        [("rrt_connect_plan", NeighborStructure::KdTree), ("rrt_connect_plan_linear_nn", NeighborStructure::LinearScan)]
+    {
+        let mut planner = RrtConnect { neighbors, ..RrtConnect::default() };
+        let mut seed = 0u64;
+        c.bench_function(&format!("spheres_7dof/{name}"), |b| {
+            b.iter(|| {
+                seed = (seed + 1) % 100;
+                let problem = PlanningProblem {
+                    robot: &robot,
+                    group: &group,
+                    q_full: &q_full,
+                    start: &START,
+                    goal: &goal,
+                    checker: &world,
+                    time_limit: Duration::from_secs(10),
+                    seed,
+                    step: 0.02,
+                };
+                planner.plan(&problem).expect("solved")
+            })
+        });
+    }
 }
 
-criterion_group!(benches, validity);
+/// One nearest-neighbour query among 10,000 uniform 7-DoF configurations (RRT-sized trees
+/// hold a few hundred; PRM roadmaps and hard problems reach this size).
+fn nearest(c: &mut Criterion) {
+    let mut rng = ChaCha8Rng::seed_from_u64(2);
+    let mut uniform =
+        |n: usize| -> Vec<Vec<f64>> { (0..n).map(|_| (0..7).map(|_| rng.random_range(-3.0..3.0)).collect()).collect() };
+    let (points, queries) = (uniform(10_000), uniform(256));
+    let structures: [(&str, Box<dyn NearestNeighbors>); 2] =
+        [("kd_tree", Box::new(KdTree::new(7))), ("linear_scan", Box::new(LinearScan::new(7)))];
+    for (name, mut nn) in structures {
+        for p in &points {
+            nn.add(p).expect("finite 7-DoF point");
+        }
+        let mut k = 0;
+        c.bench_function(&format!("nearest_7dof_10000/{name}"), |b| {
+            b.iter(|| {
+                k = (k + 1) % queries.len();
+                nn.nearest(black_box(&queries[k]))
+            })
+        });
+    }
+}
+
+criterion_group!(benches, validity, nearest);
 criterion_main!(benches);

@@ -19,6 +19,8 @@
 //!   continuous checking.
 //! - [`planners`]: RRT-Connect, PRM (roadmap built in `setup`, reused across queries) and
 //!   IK-RRT, all seeded with `ChaCha8Rng`.
+//! - [`nearest`]: the [`nearest::NearestNeighbors`] trait, a bucket kd-tree (the planners'
+//!   default) and the linear scan, which answer identically.
 //! - [`smoothing`]: random shortcuts, each validated by the strict (and continuous) check.
 //! - [`validate`]: discrete checks at the planning step (default
 //!   [`validate::DEFAULT_STEP`] = 0.02 in the Euclidean C-space norm, i.e. rad for revolute
@@ -79,6 +81,7 @@ pub const VERSION: &str = env!("CARGO_PKG_VERSION");
 pub mod benchmark;
 pub mod error;
 pub mod metrics;
+pub mod nearest;
 pub mod planners;
 pub mod problem;
 pub mod problem_builder;

@@ -2,8 +2,8 @@
 //!
 //! All three sample uniformly within the group's joint limits with a seeded `ChaCha8Rng`,
 //! check segments discretely at [`PlanningProblem::step`](crate::PlanningProblem::step), and
-//! find nearest neighbours by a linear scan over flat `Vec<f64>` storage (fast enough for the
-//! thousands of nodes these problems need).
+//! find nearest neighbours with a [`NearestNeighbors`] structure chosen by
+//! [`NeighborStructure`] (a kd-tree by default; the linear scan gives the same answers).
 
 mod prm;
 mod rrt;
@@ -11,55 +11,81 @@ mod rrt;
 pub use prm::{Prm, PrmOptions};
 pub use rrt::{IkRrt, IkRrtOptions, RrtConnect, RrtConnectOptions};
 
-/// Flat storage of configurations with a linear-scan nearest-neighbour query.
-#[derive(Clone, Debug, Default)]
-pub(crate) struct Nodes {
-    pub dim: usize,
-    pub data: Vec<f64>,
+use crate::error::Result;
+use crate::nearest::{KdTree, LinearScan, NearestNeighbors};
+
+/// The nearest-neighbour structure a planner stores its configurations in. Both give the same
+/// answers (see [`crate::nearest`]), so the choice changes only the planning time.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum NeighborStructure {
+    /// [`KdTree`] (default).
+    #[default]
+    KdTree,
+    /// [`LinearScan`], the reference.
+    LinearScan,
 }
 
+impl NeighborStructure {
+    /// An empty structure of this kind for `dim`-dimensional configurations.
+    pub fn build(self, dim: usize) -> Box<dyn NearestNeighbors> {
+        match self {
+            Self::KdTree => Box::new(KdTree::new(dim)),
+            Self::LinearScan => Box::new(LinearScan::new(dim)),
+        }
+    }
+}
+
+/// A planner's configurations: a [`NearestNeighbors`] structure with infallible access to
+/// the indices it handed out.
+pub(crate) struct Nodes(NeighborStructure, Box<dyn NearestNeighbors>);
+
 impl Nodes {
-    pub fn new(dim: usize) -> Self {
-        Self { dim, data: Vec::new() }
+    pub fn new(kind: NeighborStructure, dim: usize) -> Self {
+        Self(kind, kind.build(dim))
+    }
+    pub fn dim(&self) -> usize {
+        self.1.dim()
     }
     pub fn len(&self) -> usize {
-        self.data.len() / self.dim.max(1)
+        self.1.len()
     }
+    /// Configuration `i` (an index returned by `push`).
     pub fn get(&self, i: usize) -> &[f64] {
-        &self.data[i * self.dim..(i + 1) * self.dim]
+        self.1.get(i).unwrap_or_default()
     }
-    pub fn push(&mut self, q: &[f64]) -> usize {
-        self.data.extend_from_slice(q);
-        self.len() - 1
+    pub fn push(&mut self, q: &[f64]) -> Result<usize> {
+        self.1.add(q)
     }
-    fn sq_dist(&self, i: usize, q: &[f64]) -> f64 {
-        self.get(i).iter().zip(q).map(|(a, b)| (a - b) * (a - b)).sum()
+    pub fn nearest(&self, q: &[f64]) -> Result<Option<usize>> {
+        self.1.nearest(q)
     }
-    /// Index of the nearest node (None if empty).
-    pub fn nearest(&self, q: &[f64]) -> Option<usize> {
-        let mut best = None;
-        let mut best_d = f64::INFINITY;
+    /// Up to `k` nearest nodes with their distances, closest first.
+    pub fn k_nearest(&self, q: &[f64], k: usize) -> Result<Vec<(usize, f64)>> {
+        let mut out = Vec::with_capacity(k);
+        self.1.k_nearest(q, k, &mut out)?;
+        Ok(out)
+    }
+}
+
+impl Default for Nodes {
+    fn default() -> Self {
+        Self::new(NeighborStructure::default(), 0)
+    }
+}
+
+impl Clone for Nodes {
+    fn clone(&self) -> Self {
+        let mut copy = Self::new(self.0, self.dim());
         for i in 0..self.len() {
-            let d = self.sq_dist(i, q);
-            if d < best_d {
-                best_d = d;
-                best = Some(i);
-            }
+            // Same dimension, finite values: cannot fail.
+            let _ = copy.push(self.get(i));
         }
-        best
+        copy
     }
-    /// Up to `k` nearest nodes with their distances, closest first, skipping `exclude`.
-    pub fn k_nearest(&self, q: &[f64], k: usize, exclude: Option<usize>) -> Vec<(usize, f64)> {
-        let mut all: Vec<(usize, f64)> =
-            (0..self.len()).filter(|&i| Some(i) != exclude).map(|i| (i, self.sq_dist(i, q))).collect();
-        if all.len() > k {
-            all.select_nth_unstable_by(k, |a, b| a.1.total_cmp(&b.1));
-            all.truncate(k);
-        }
-        all.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
-        for e in &mut all {
-            e.1 = e.1.sqrt();
-        }
-        all
+}
+
+impl std::fmt::Debug for Nodes {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Nodes").field("kind", &self.0).field("dim", &self.dim()).field("len", &self.len()).finish()
     }
 }

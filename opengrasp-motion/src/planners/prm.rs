@@ -6,7 +6,7 @@ use std::collections::BinaryHeap;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::Nodes;
+use super::{NeighborStructure, Nodes};
 use crate::error::{MotionError, Result};
 use crate::problem::{Deadline, Goal, MotionPlanner, PlanningProblem, SetupContext, Solution};
 
@@ -43,6 +43,8 @@ impl Default for PrmOptions {
 pub struct Prm {
     /// Options.
     pub options: PrmOptions,
+    /// Nearest-neighbour structure of the roadmap (default: kd-tree; same roadmap either way).
+    pub neighbors: NeighborStructure,
     nodes: Nodes,
     edges: Vec<Vec<(usize, f64)>>,
     limits: Vec<(f64, f64)>,
@@ -76,9 +78,9 @@ impl Prm {
         false
     }
 
-    fn add_node(&mut self, checker: &dyn StateValidityChecker, q: &[f64], step: f64) {
-        let near = self.nodes.k_nearest(q, self.options.k, None);
-        let i = self.nodes.push(q);
+    fn add_node(&mut self, checker: &dyn StateValidityChecker, q: &[f64], step: f64) -> Result<()> {
+        let near = self.nodes.k_nearest(q, self.options.k)?;
+        let i = self.nodes.push(q)?;
         self.edges.push(Vec::new());
         for (j, d) in near {
             if checker.is_motion_valid(self.nodes.get(j), q, step) {
@@ -86,6 +88,7 @@ impl Prm {
                 self.edges[j].push((i, d));
             }
         }
+        Ok(())
     }
 
     fn grow(
@@ -95,26 +98,24 @@ impl Prm {
         count: usize,
         step: f64,
         deadline: Option<&Deadline>,
-    ) {
+    ) -> Result<()> {
         let mut q = Vec::new();
         for _ in 0..count {
             if deadline.is_some_and(Deadline::expired) {
-                return;
+                break;
             }
             if self.sample_valid(checker, rng, &mut q) {
-                let q2 = q.clone();
-                self.add_node(checker, &q2, step);
+                self.add_node(checker, &q, step)?;
             }
         }
+        Ok(())
     }
 
     /// Valid connections `(node, cost)` from configuration `q` to its k nearest nodes.
-    fn connections(&self, checker: &dyn StateValidityChecker, q: &[f64], step: f64) -> Vec<(usize, f64)> {
-        self.nodes
-            .k_nearest(q, self.options.k, None)
-            .into_iter()
-            .filter(|&(j, _)| checker.is_motion_valid(q, self.nodes.get(j), step))
-            .collect()
+    fn connections(&self, checker: &dyn StateValidityChecker, q: &[f64], step: f64) -> Result<Vec<(usize, f64)>> {
+        let mut near = self.nodes.k_nearest(q, self.options.k)?;
+        near.retain(|&(j, _)| checker.is_motion_valid(q, self.nodes.get(j), step));
+        Ok(near)
     }
 
     /// Dijkstra from the start connections; returns (cost, goal index, node chain).
@@ -186,11 +187,10 @@ impl MotionPlanner for Prm {
             return Err(MotionError::InvalidParameter { name: "k", reason: "must be at least 1".into() });
         }
         self.limits = context.group.limits(context.robot);
-        self.nodes = Nodes::new(context.group.len());
+        self.nodes = Nodes::new(self.neighbors, context.group.len());
         self.edges.clear();
         let mut rng = ChaCha8Rng::seed_from_u64(context.seed);
-        self.grow(context.checker, &mut rng, self.options.nodes, context.step, None);
-        Ok(())
+        self.grow(context.checker, &mut rng, self.options.nodes, context.step, None)
     }
 
     fn plan(&mut self, problem: &PlanningProblem<'_>) -> Result<Solution> {
@@ -203,10 +203,10 @@ impl MotionPlanner for Prm {
         let mut rng = ChaCha8Rng::seed_from_u64(problem.seed);
         let checker = problem.checker;
         let step = problem.step;
-        if self.nodes.dim != problem.group.len() || self.limits.len() != problem.group.len() {
+        if self.nodes.dim() != problem.group.len() || self.limits.len() != problem.group.len() {
             // Not set up for this group: start an empty roadmap; growth fills it.
             self.limits = problem.limits();
-            self.nodes = Nodes::new(problem.group.len());
+            self.nodes = Nodes::new(self.neighbors, problem.group.len());
             self.edges.clear();
         }
         let mut iterations = 0;
@@ -236,8 +236,8 @@ impl MotionPlanner for Prm {
             }
         }
         loop {
-            let start = self.connections(checker, problem.start, step);
-            let goal_conns: Vec<Vec<(usize, f64)>> = goals.iter().map(|g| self.connections(checker, g, step)).collect();
+            let start = self.connections(checker, problem.start, step)?;
+            let goal_conns = goals.iter().map(|g| self.connections(checker, g, step)).collect::<Result<Vec<_>>>()?;
             if let Some((g, chain)) = self.search(&start, &goal_conns) {
                 let mut path = vec![problem.start.to_vec()];
                 path.extend(chain.iter().map(|&i| self.nodes.get(i).to_vec()));
@@ -248,7 +248,7 @@ impl MotionPlanner for Prm {
                 return Err(timeout());
             }
             iterations += self.options.growth as u64;
-            self.grow(checker, &mut rng, self.options.growth.max(1), step, Some(&deadline));
+            self.grow(checker, &mut rng, self.options.growth.max(1), step, Some(&deadline))?;
         }
     }
 }

@@ -3,7 +3,7 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use super::Nodes;
+use super::{NeighborStructure, Nodes};
 use crate::error::{MotionError, Result};
 use crate::problem::{Deadline, Goal, MotionPlanner, PlanningProblem, Solution};
 use crate::validate::distance;
@@ -35,12 +35,14 @@ impl Default for RrtConnectOptions {
 pub struct RrtConnect {
     /// Options.
     pub options: RrtConnectOptions,
+    /// Nearest-neighbour structure of the trees (default: kd-tree; same paths either way).
+    pub neighbors: NeighborStructure,
 }
 
 impl RrtConnect {
     /// An RRT-Connect planner with the given options.
     pub fn new(options: RrtConnectOptions) -> Self {
-        Self { options }
+        Self { options, neighbors: NeighborStructure::default() }
     }
 }
 
@@ -70,7 +72,8 @@ impl MotionPlanner for RrtConnect {
                 return Err(MotionError::Timeout { seconds: problem.time_limit.as_secs_f64() });
             }
         }
-        bidirectional(problem, &mut rng, &deadline, self.options.range, roots, 0.0, iterations)
+        Bidirectional::new(problem, self.neighbors, self.options.range, roots)?
+            .run(&mut rng, &deadline, 0.0, iterations)
     }
 }
 
@@ -99,12 +102,14 @@ impl Default for IkRrtOptions {
 pub struct IkRrt {
     /// Options.
     pub options: IkRrtOptions,
+    /// Nearest-neighbour structure of the trees (default: kd-tree; same paths either way).
+    pub neighbors: NeighborStructure,
 }
 
 impl IkRrt {
     /// An IK-RRT planner with the given options.
     pub fn new(options: IkRrtOptions) -> Self {
-        Self { options }
+        Self { options, neighbors: NeighborStructure::default() }
     }
 }
 
@@ -125,7 +130,7 @@ impl MotionPlanner for IkRrt {
         let mut rng = ChaCha8Rng::seed_from_u64(problem.seed);
         let roots = goal_roots(problem);
         let p = if matches!(problem.goal, Goal::Pose(_)) { self.options.ik_probability } else { 0.0 };
-        let mut planner = Bidirectional::new(problem, self.options.range, roots);
+        let mut planner = Bidirectional::new(problem, self.neighbors, self.options.range, roots)?;
         planner.max_roots = self.options.max_goal_roots;
         planner.run(&mut rng, &deadline, p, 0)
     }
@@ -139,30 +144,19 @@ fn goal_roots(problem: &PlanningProblem<'_>) -> Vec<Vec<f64>> {
     }
 }
 
-fn bidirectional(
-    problem: &PlanningProblem<'_>,
-    rng: &mut ChaCha8Rng,
-    deadline: &Deadline,
-    range: f64,
-    roots: Vec<Vec<f64>>,
-    ik_probability: f64,
-    iterations: u64,
-) -> Result<Solution> {
-    Bidirectional::new(problem, range, roots).run(rng, deadline, ik_probability, iterations)
-}
-
 struct Tree {
     nodes: Nodes,
     parent: Vec<usize>,
 }
 
 impl Tree {
-    fn new(dim: usize) -> Self {
-        Self { nodes: Nodes::new(dim), parent: Vec::new() }
+    fn new(kind: NeighborStructure, dim: usize) -> Self {
+        Self { nodes: Nodes::new(kind, dim), parent: Vec::new() }
     }
-    fn add(&mut self, q: &[f64], parent: usize) -> usize {
+    fn add(&mut self, q: &[f64], parent: usize) -> Result<usize> {
+        let i = self.nodes.push(q)?;
         self.parent.push(parent);
-        self.nodes.push(q)
+        Ok(i)
     }
     /// Configurations from node `i` back to its root.
     fn branch(&self, mut i: usize) -> Vec<Vec<f64>> {
@@ -192,15 +186,20 @@ struct Bidirectional<'p, 'a> {
 }
 
 impl<'p, 'a> Bidirectional<'p, 'a> {
-    fn new(problem: &'p PlanningProblem<'a>, range: f64, roots: Vec<Vec<f64>>) -> Self {
+    fn new(
+        problem: &'p PlanningProblem<'a>,
+        kind: NeighborStructure,
+        range: f64,
+        roots: Vec<Vec<f64>>,
+    ) -> Result<Self> {
         let dim = problem.group.len();
-        let mut start = Tree::new(dim);
-        start.add(problem.start, usize::MAX);
-        let mut goal = Tree::new(dim);
+        let mut start = Tree::new(kind, dim);
+        start.add(problem.start, usize::MAX)?;
+        let mut goal = Tree::new(kind, dim);
         for r in &roots {
-            goal.add(r, usize::MAX);
+            goal.add(r, usize::MAX)?;
         }
-        Self {
+        Ok(Self {
             problem,
             range,
             trees: [start, goal],
@@ -208,12 +207,12 @@ impl<'p, 'a> Bidirectional<'p, 'a> {
             scratch: Vec::new(),
             from: Vec::new(),
             target: Vec::new(),
-        }
+        })
     }
 
-    fn extend(&mut self, t: usize, target: &[f64]) -> Extend {
+    fn extend(&mut self, t: usize, target: &[f64]) -> Result<Extend> {
         let tree = &mut self.trees[t];
-        let Some(near) = tree.nodes.nearest(target) else { return Extend::Trapped };
+        let Some(near) = tree.nodes.nearest(target)? else { return Ok(Extend::Trapped) };
         // Reused buffers: no allocation per extension.
         let from = &mut self.from;
         from.clear();
@@ -228,21 +227,17 @@ impl<'p, 'a> Bidirectional<'p, 'a> {
             self.scratch.extend(from.iter().zip(target).map(|(a, b)| a + s * (b - a)));
         }
         if !self.problem.checker.is_motion_valid(from, &self.scratch, self.problem.step) {
-            return Extend::Trapped;
+            return Ok(Extend::Trapped);
         }
-        let new = tree.add(&self.scratch, near);
-        if reached {
-            Extend::Reached(new)
-        } else {
-            Extend::Advanced(new)
-        }
+        let new = tree.add(&self.scratch, near)?;
+        Ok(if reached { Extend::Reached(new) } else { Extend::Advanced(new) })
     }
 
-    fn connect(&mut self, t: usize, target: &[f64]) -> Extend {
+    fn connect(&mut self, t: usize, target: &[f64]) -> Result<Extend> {
         loop {
-            match self.extend(t, target) {
+            match self.extend(t, target)? {
                 Extend::Advanced(_) => continue,
-                other => return other,
+                other => return Ok(other),
             }
         }
     }
@@ -269,9 +264,9 @@ impl<'p, 'a> Bidirectional<'p, 'a> {
                 && (self.trees[1].nodes.len() == 0 || rng.random::<f64>() < ik_probability);
             if want_ik {
                 if let Some(g) = problem.sample_ik_goal(rng, &limits) {
-                    let root = self.trees[1].add(&g, usize::MAX);
+                    let root = self.trees[1].add(&g, usize::MAX)?;
                     // Try to reach the new root from the start tree right away.
-                    if let Extend::Reached(s) = self.connect(0, &g) {
+                    if let Extend::Reached(s) = self.connect(0, &g)? {
                         return Ok(self.solution(s, root, iterations));
                     }
                 }
@@ -281,7 +276,7 @@ impl<'p, 'a> Bidirectional<'p, 'a> {
             }
             problem.sample_uniform(rng, &limits, &mut sample);
             let b = 1 - a;
-            let new = match self.extend(a, &sample) {
+            let new = match self.extend(a, &sample)? {
                 Extend::Trapped => None,
                 Extend::Advanced(n) | Extend::Reached(n) => Some(n),
             };
@@ -291,7 +286,7 @@ impl<'p, 'a> Bidirectional<'p, 'a> {
                 q.extend_from_slice(self.trees[a].nodes.get(n));
                 let reached = self.connect(b, &q);
                 self.target = q;
-                if let Extend::Reached(m) = reached {
+                if let Extend::Reached(m) = reached? {
                     let (s, g) = if a == 0 { (n, m) } else { (m, n) };
                     return Ok(self.solution(s, g, iterations));
                 }

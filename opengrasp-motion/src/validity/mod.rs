@@ -8,12 +8,14 @@
 //! Implementations shipped with the crate:
 //! - [`CollisionChecker`]: exact checks on core's parry-based [`CollisionWorld`](opengrasp_core::collision::CollisionWorld) (environment,
 //!   objects, self-collision, attached objects).
+//! - [`cover`]: sphere covers of meshes with a guaranteed bound (every surface point covered).
 //! - [`SphereWorld`]: the links of a core [`Robot`](opengrasp_core::model::Robot) covered by spheres, among oriented boxes.
 //!   Closed-form distances, fast, conservative; used by the stand-in benchmark scenes and tests.
 //! - [`CountingChecker`]: wraps any checker and counts the calls (the benchmark uses it to
 //!   report collision checks per run).
 
 mod bound;
+pub mod cover;
 mod exact;
 mod soa;
 mod spheres;
@@ -22,7 +24,7 @@ use std::cell::Cell;
 
 pub use bound::MotionBound;
 pub use exact::CollisionChecker;
-pub use spheres::{ObstacleBox, SphereWorld};
+pub use spheres::{MeshCover, ObstacleBox, SelfCollisionPairs, SphereWorld};
 
 /// Decides whether group configurations are valid (collision-free).
 ///

@@ -8,6 +8,7 @@ use opengrasp_core::model::{Geometry, JointGroup, LinkId, Robot};
 
 use crate::error::Result;
 
+use super::cover::{self, cover_box};
 use super::soa::{with_scratch, Scratch, SphereSoa};
 use super::{MotionBound, StateValidityChecker};
 
@@ -38,15 +39,36 @@ impl ObstacleBox {
     }
 }
 
+/// Which link pairs a [`SphereWorld`] checks for self-collision.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SelfCollisionPairs {
+    /// Pairs the robot does not allow ([`Robot::is_collision_allowed`]) and whose sphere covers
+    /// do not overlap at the reference configuration (default; for robots without an SRDF,
+    /// whose only allowed pairs are joint-adjacent links).
+    #[default]
+    NotOverlappingAtReference,
+    /// Exactly the pairs the robot does not allow: joint-adjacent links and the SRDF's
+    /// `<disable_collisions>` (applied to the robot by
+    /// [`Srdf::apply`](opengrasp_core::srdf::Srdf::apply)) are skipped, every other pair of
+    /// links with collision geometry is checked — the same matrix as the exact checker's.
+    /// A checked pair whose covers overlap at the reference configuration makes that
+    /// configuration invalid.
+    Robot,
+}
+
 /// A robot whose links are covered by spheres, among oriented boxes: closed-form, conservative
 /// distances for tests and stand-in scenes.
 ///
 /// Each collision shape is covered by spheres (a capsule or cylinder of radius `r` by spheres
 /// along its axis at spacing `s ≤ r`, radius `√(r² + s²/4)`; a box by a grid of spheres; a mesh
-/// by its bounding box), so the covered robot contains the real one and every distance is a
+/// by its bounding box or, with [`MeshCover::Voxels`], by the cells its surface touches), so
+/// the covered robot contains the real one (with voxels: its surface, which suffices unless an
+/// obstacle fits wholly inside a link) and every distance is a
 /// lower bound on the true distance. Self-collision is checked between sphere sets of link
 /// pairs that are neither allowed by [`Robot::is_collision_allowed`] nor already overlapping at
-/// the reference configuration (like an SRDF's "default" disabled pairs).
+/// the reference configuration (like an SRDF's "default" disabled pairs), or, with
+/// [`SelfCollisionPairs::Robot`] ([`SphereWorld::with_self_collision`]), exactly the pairs of
+/// the robot's SRDF.
 ///
 /// The clearance is the smallest distance from a link the group moves to a box. For continuous
 /// checking, [`StateValidityChecker::link_distances`] reports per link the
@@ -70,7 +92,26 @@ pub struct SphereWorld {
     soa: SphereSoa,
 }
 
-fn cover_shape(geometry: &Geometry, origin: &Isometry3<f64>, out: &mut Vec<(Point3<f64>, f64)>) {
+/// How a [`SphereWorld`] covers mesh collision shapes (other shapes have closed-form covers).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum MeshCover {
+    /// A grid of spheres over the mesh's bounding box ([`cover::bounding_box_cover`]; default).
+    #[default]
+    BoundingBox,
+    /// One sphere per grid cell of this edge (m) the surface touches
+    /// ([`cover::voxel_cover`]): every surface point covered, overhang at most `2√3 · cell`.
+    Voxels {
+        /// Cell edge (m).
+        cell: f64,
+    },
+}
+
+fn cover_shape(
+    geometry: &Geometry,
+    origin: &Isometry3<f64>,
+    meshes: MeshCover,
+    out: &mut Vec<(Point3<f64>, f64)>,
+) -> Result<()> {
     match geometry {
         Geometry::Sphere { radius } => out.push((origin * Point3::origin(), *radius)),
         Geometry::Capsule { radius, length } | Geometry::Cylinder { radius, length } => {
@@ -84,31 +125,14 @@ fn cover_shape(geometry: &Geometry, origin: &Isometry3<f64>, out: &mut Vec<(Poin
         }
         Geometry::Box { half_extents } => cover_box(half_extents, origin, out),
         Geometry::Mesh(mesh) => {
-            let (lo, hi) = mesh.aabb();
-            let centre = nalgebra::center(&lo, &hi);
-            let o = origin * Isometry3::translation(centre.x, centre.y, centre.z);
-            cover_box(&((hi - lo) * 0.5), &o, out);
+            let cover = match meshes {
+                MeshCover::BoundingBox => cover::bounding_box_cover(mesh),
+                MeshCover::Voxels { cell } => cover::voxel_cover(mesh, cell)?,
+            };
+            out.extend(cover.spheres.iter().map(|(c, r)| (origin * c, *r)));
         }
     }
-}
-
-fn cover_box(h: &Vector3<f64>, origin: &Isometry3<f64>, out: &mut Vec<(Point3<f64>, f64)>) {
-    let cell = h.min().max(1e-3) * 2.0;
-    let n = h.map(|e| ((2.0 * e / cell).ceil().max(1.0)) as usize);
-    let size = Vector3::new(2.0 * h.x / n.x as f64, 2.0 * h.y / n.y as f64, 2.0 * h.z / n.z as f64);
-    let r = size.norm() * 0.5;
-    for i in 0..n.x {
-        for j in 0..n.y {
-            for k in 0..n.z {
-                let c = Point3::new(
-                    -h.x + size.x * (i as f64 + 0.5),
-                    -h.y + size.y * (j as f64 + 0.5),
-                    -h.z + size.z * (k as f64 + 0.5),
-                );
-                out.push((origin * c, r));
-            }
-        }
-    }
+    Ok(())
 }
 
 impl SphereWorld {
@@ -124,6 +148,22 @@ impl SphereWorld {
         base_pose: Isometry3<f64>,
         boxes: Vec<ObstacleBox>,
     ) -> Result<Self> {
+        Self::with_mesh_cover(robot, group, q_full, base_pose, boxes, MeshCover::default())
+    }
+
+    /// Like [`SphereWorld::new`], covering mesh shapes as `meshes` says.
+    ///
+    /// # Errors
+    /// As [`SphereWorld::new`]; [`MotionError::InvalidParameter`](crate::MotionError::InvalidParameter)
+    /// for a bad voxel cell.
+    pub fn with_mesh_cover(
+        robot: Arc<Robot>,
+        group: JointGroup,
+        q_full: Vec<f64>,
+        base_pose: Isometry3<f64>,
+        boxes: Vec<ObstacleBox>,
+        meshes: MeshCover,
+    ) -> Result<Self> {
         robot.validate_configuration(&q_full)?;
         let mut links = Vec::new();
         let mut spheres = Vec::new();
@@ -136,7 +176,7 @@ impl SphereWorld {
             }
             buf.clear();
             for shape in &link.collisions {
-                cover_shape(&shape.geometry, &shape.origin, &mut buf);
+                cover_shape(&shape.geometry, &shape.origin, meshes, &mut buf)?;
             }
             let k = links.len();
             let start = spheres.len();
@@ -155,22 +195,28 @@ impl SphereWorld {
         }
         let bound = MotionBound::new(&robot, &group, &links, &points)?;
         let soa = SphereSoa::new(&spheres, &ranges, &boxes);
-        let mut world =
+        let world =
             Self { robot, group, q_full, base_pose, spheres, ranges, links, pairs: Vec::new(), boxes, bound, soa };
-        let reference = world.q_full.clone();
-        let centres = world.sphere_centres(&reference);
-        let n = world.links.len();
+        Ok(world.with_self_collision(SelfCollisionPairs::default()))
+    }
+
+    /// This world checking the self-collision pairs chosen by `pairs`.
+    pub fn with_self_collision(mut self, pairs: SelfCollisionPairs) -> Self {
+        let reference = self.q_full.clone();
+        let centres = self.sphere_centres(&reference);
+        let n = self.links.len();
+        self.pairs.clear();
         for a in 0..n {
             for b in a + 1..n {
-                if world.robot.is_collision_allowed(world.links[a], world.links[b]) {
+                if self.robot.is_collision_allowed(self.links[a], self.links[b]) {
                     continue;
                 }
-                if world.pair_distance(&centres, a, b) > 0.0 {
-                    world.pairs.push((a, b));
+                if pairs == SelfCollisionPairs::Robot || self.pair_distance(&centres, a, b) > 0.0 {
+                    self.pairs.push((a, b));
                 }
             }
         }
-        Ok(world)
+        self
     }
 
     /// The robot.
