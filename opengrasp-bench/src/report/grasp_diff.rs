@@ -15,13 +15,16 @@ pub const AGREEMENT_PP: f64 = 15.0;
 /// A legend line per hand compares the planner ranking with the paper's.
 /// Empty when no cell has a paper figure.
 pub fn grasp_differences(g: &GraspSection) -> Vec<Table> {
-    let headers = ["cell", "n", "p.n", "FC%", "p.FC%", "diff pp", "FC% closed", "palm/closed %", "reason"];
+    let headers = ["cell", "n", "p.n", "FC%", "p.FC%", "diff", "FC% all", "kept %", "reason"];
     let mut rows = Vec::new();
     let mut legend = vec![
         "cell: hand / object / planner; n, FC%: ours (palm-contact grasps, force closure among them); p.n, p.FC%: the \
-         paper's; diff pp: FC% minus p.FC%; FC% closed: force closure among all grasps whose fingers closed on \
-         the object, without the palm-contact rule; palm/closed %: share of closed grasps the palm-contact rule \
-         keeps; reason: what the records show (agrees: within 15 pp)."
+         paper's; diff: FC% minus p.FC% (percentage points); FC% all: force closure among all grasps whose fingers \
+         closed on the object, without the palm-contact rule; kept %: share of those closed grasps the palm-contact \
+         rule keeps; reason: what the records show — agrees: within 15 pp; cap e/g: e of the g generated candidates \
+         evaluated; n Rx: our n is R times the paper's; palm rule: FC% all is nearer the paper's figure, so the \
+         palm-contact rule makes most of the gap; model: neither explains it, so the contact model does (where the \
+         fingers land, friction cones, the FC test); no palm grasp: none of the closed grasps touches the palm."
             .to_string(),
     ];
     let mut hands: Vec<&str> = Vec::new();
@@ -67,34 +70,26 @@ pub fn grasp_differences(g: &GraspSection) -> Vec<Table> {
 /// The measured reasons a cell differs from the paper's `(paper_n, paper_fc)`.
 fn reason(c: &CellResult, paper_n: usize, paper_fc: f64) -> String {
     if c.palm_contact == 0 {
-        return if c.closed == 0 {
-            "no data: the hand closed on the object in no candidate".into()
-        } else {
-            format!("no data: none of {} closed grasps touches the palm (palm-contact rule)", c.closed)
-        };
+        return if c.closed == 0 { "none closed".into() } else { format!("no palm grasp of {} closed", c.closed) };
     }
     let ours = 100.0 * c.force_closure_palm as f64 / c.palm_contact as f64;
     let gap = (ours - paper_fc).abs();
     let mut why = Vec::new();
     if c.evaluated < c.generated {
-        why.push(format!("cap: {} of {} candidates evaluated", c.evaluated, c.generated));
+        why.push(format!("cap {}/{}", c.evaluated, c.generated));
     }
     let ratio = c.palm_contact as f64 / paper_n as f64;
     if !(0.5..=2.0).contains(&ratio) {
-        why.push(format!("count: n is {ratio:.2}x the paper's"));
+        why.push(format!("n {ratio:.2}x"));
     }
     if gap <= AGREEMENT_PP {
         return if why.is_empty() { "agrees".into() } else { format!("agrees ({})", why.join("; ")) };
     }
     let all = if c.closed == 0 { 0.0 } else { 100.0 * c.force_closure as f64 / c.closed as f64 };
     if (all - paper_fc).abs() + 5.0 < gap {
-        why.push(format!("palm-contact rule: {all:.1} % without it"));
+        why.push(format!("palm rule ({all:.1} % without)"));
     } else {
-        why.push(if ours > paper_fc {
-            "contact model: more force closure than the paper (friction cones, FC test)".into()
-        } else {
-            "contact model: less force closure than the paper (where fingers land, friction, FC test)".into()
-        });
+        why.push(if ours > paper_fc { "model: more FC".into() } else { "model: less FC".into() });
     }
     why.join("; ")
 }
