@@ -42,11 +42,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     println!(
         "{:<16} {:<16} {:<14} {:>9} {:>9} {:>9} {:>9} {:>9} {:>8}",
-        "hand", "planner", "object", "generated", "evaluated", "mean eps", "med eps", "physics", "eval/s"
+        "hand", "planner", "object", "generated", "evaluated", "mean eps", "med eps", "h/s/d", "eval/s"
     );
     for c in &results.cells {
-        let physics =
-            if c.physics_tested > 0 { format!("{}/{}", c.physics_held, c.physics_tested) } else { "-".into() };
+        // held/slipped/dropped of the simulated grasps.
+        let physics = if c.physics_tested > 0 {
+            format!("{}/{}/{}", c.physics_held, c.physics_slipped, c.physics_dropped)
+        } else {
+            "-".into()
+        };
         println!(
             "{:<16} {:<16} {:<14} {:>9} {:>9} {:>9.4} {:>9.4} {:>9} {:>8.0}",
             c.hand,
@@ -59,6 +63,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             physics,
             c.evaluations_per_second
         );
+    }
+    for hand in &config.hands {
+        let cells: Vec<_> = results.cells.iter().filter(|c| c.hand == hand.name()).collect();
+        let sum = |f: fn(&&opengrasp::grasp::benchmark::CellResult) -> usize| cells.iter().map(f).sum::<usize>();
+        let tested = sum(|c| c.physics_tested);
+        if tested > 0 {
+            println!(
+                "physics, hand {}: {} of {tested} force-closure palm grasps held, {} slipped, {} dropped; \
+                 the squeeze alone pushed the object out in {}",
+                hand.name(),
+                sum(|c| c.physics_held),
+                sum(|c| c.physics_slipped),
+                sum(|c| c.physics_dropped),
+                sum(|c| c.physics_grip_moved)
+            );
+        }
     }
     println!(
         "\n{} candidates evaluated in {:.2} s: {:.0} evaluations per second (one core)",

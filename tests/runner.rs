@@ -52,6 +52,9 @@ fn cell(
         median_epsilon: 0.04,
         physics_tested: 0,
         physics_held: 0,
+        physics_slipped: 0,
+        physics_dropped: 0,
+        physics_grip_moved: 0,
         planning_seconds: 0.01,
         evaluation_seconds: 0.2,
         evaluations_per_second: evaluated as f64 / 0.2,
@@ -307,6 +310,54 @@ fn grasp_tables_have_the_right_numbers() {
         assert!(fields[1].is_empty() || fields[1].parse::<f64>().is_ok(), "non-numeric value in {l}");
     }
     assert!(csv.lines().count() > t.rows.len() * 4);
+}
+
+#[test]
+fn grasp_differences_explain_each_cell_from_the_records() {
+    let file = hand_made();
+    let g = file.grasp.as_ref().unwrap();
+    let tables = report::grasp_differences(g);
+    assert_eq!(tables.len(), 1);
+    let t = &tables[0];
+    assert_eq!(t.rows.len(), 4);
+    let ma = "barrett / Salt can / MA";
+    assert_eq!(t.cell(ma, "n"), Some("10"));
+    assert_eq!(t.cell(ma, "p.n"), Some("1072"));
+    assert_eq!(t.cell(ma, "FC%"), Some("70.0"));
+    // 70.0 - 91.4 percentage points.
+    assert_eq!(t.cell(ma, "diff"), Some("-21.4"));
+    // Without the palm-contact rule: 9 of 20 closed grasps; the rule keeps 10 of 20.
+    assert_eq!(t.cell(ma, "FC% all"), Some("45.0"));
+    assert_eq!(t.cell(ma, "kept %"), Some("50.0"));
+    let why = t.cell(ma, "reason").unwrap();
+    assert!(why.contains("cap 20/40") && why.contains("n 0.01x"), "{why}");
+    assert!(why.contains("model: less FC"), "{why}");
+    // No palm-contact grasp is "no data", not 0 %, and says why.
+    let sn_cup = "barrett / White cup / SN";
+    assert_eq!(t.cell(sn_cup, "FC%"), Some("-"));
+    assert_eq!(t.cell(sn_cup, "diff"), Some("-"));
+    assert!(t.cell(sn_cup, "reason").unwrap().contains("no palm grasp of 20 closed"));
+    // Ranking: ours MA 10/20 = 50 % > SN 1/4 = 25 %; paper MA 80.2 % > SN 41.3 %.
+    let legend = t.legend.join(" ");
+    assert!(legend.contains("ours MA 50.0 % > SN 25.0 %, paper MA 80.2 % > SN 41.3 %: the ranking agrees"), "{legend}");
+    assert!(legend.contains("capped at 20 candidates"), "{legend}");
+    // A cell whose palm rule explains the gap: 4 of 10 palm grasps in FC, 18 of 20 closed.
+    let mut g2 = g.clone();
+    let c = &mut g2.cells[0].cell;
+    (c.palm_contact, c.force_closure_palm, c.force_closure, c.closed) = (10, 4, 18, 20);
+    let t2 = &report::grasp_differences(&g2)[0];
+    let why = t2.cell(ma, "reason").unwrap();
+    assert!(why.contains("palm rule (90.0 % without)"), "{why}");
+    // Grasp tables print "-" for the epsilon of a cell without force-closure grasps.
+    let tables = report::grasp_tables(&g2);
+    assert_eq!(tables[0].cell("White cup", "SN eps"), Some("-"));
+    // Cells without a paper figure give no differences table.
+    let mut g3 = g.clone();
+    g3.cells.iter_mut().for_each(|r| r.cell.hand = "sdh".into());
+    assert!(report::grasp_differences(&g3).is_empty());
+    // The text rendering fits 120 columns.
+    let text = t.render(Format::Table);
+    assert!(text.lines().all(|l| l.chars().count() <= 120), "{text}");
 }
 
 #[test]
@@ -770,9 +821,9 @@ fn run_grasp_with_physics_checks_end_to_end() {
     };
     let checked = run("2");
     let cells = &checked.grasp.as_ref().unwrap().cells;
-    // The tiny suite's medial-axis cell has two force-closure palm grasps: both are simulated.
+    // The tiny suite's medial-axis cell has four force-closure palm grasps: two are simulated.
     let ma = cells.iter().find(|c| c.cell.planner == "medial-axis").unwrap();
-    assert_eq!((ma.cell.force_closure_palm, ma.cell.physics_tested), (2, 2), "{:?}", ma.cell);
+    assert_eq!((ma.cell.force_closure_palm, ma.cell.physics_tested), (4, 2), "{:?}", ma.cell);
     assert!(cells
         .iter()
         .all(|c| c.cell.physics_held <= c.cell.physics_tested

@@ -6,7 +6,7 @@
 //! [`Hand`] and [`HandSpec`] live in `opengrasp_core::hand` (re-exported here): any user hand
 //! (a URDF + a spec file, or built in code) becomes a [`Hand`] the same way the stock ones do.
 
-use std::f64::consts::{FRAC_PI_2, PI};
+use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use opengrasp_core::model::{Geometry, Inertial, JointKind, JointSpec, Link, RobotBuilder, Shape};
@@ -89,8 +89,11 @@ impl Drive {
 mod bh {
     pub const PALM_RADIUS: f64 = 0.045;
     pub const PALM_HEIGHT: f64 = 0.075;
+    /// Spread axes' distance from the palm centre (the manual's DH parameter `Aw`).
     pub const SPREAD_AXIS_RADIUS: f64 = 0.025;
-    pub const KNUCKLE_OFFSET: f64 = 0.025;
+    /// Spread axis to flexion axis (the manual's `A1`): the flexion axes sit 75 mm from the
+    /// palm centre, so the straight fingers of the open hand are 132 mm apart.
+    pub const KNUCKLE_OFFSET: f64 = 0.050;
     pub const PROXIMAL: f64 = 0.070;
     pub const DISTAL: f64 = 0.058;
     pub const FINGER_WIDTH: f64 = 0.024;
@@ -328,7 +331,7 @@ pub(crate) fn armar3_hand_parts(p: &str, side: f64) -> Parts {
         &tn[0],
         Isometry3::from_parts(Translation3::identity(), rot),
         flex_axis,
-        (0.0, FRAC_PI_2),
+        (-FRAC_PI_2, FRAC_PI_2),
     ));
     parts.joints.push(FINGER.revolute(
         &format!("{p}thumb_j2"),
@@ -366,15 +369,20 @@ pub fn armar3_hand_spec(prefix: &str) -> HandSpec {
         palm_frame: Isometry3::translation(ah::PALM_THICK / 2.0, 0.0, ah::PALM_LENGTH * 0.6),
         approach: Vector3::x(),
         preshapes: vec![
-            // Open hand ready for a power grasp: fingers and thumb extended, the thumb rotated
-            // out of the palm to oppose the fingers (closing then flexes it towards them).
-            PreshapeSpec { name: "open".into(), joints: vec![(format!("{p}thumb_opposition"), FRAC_PI_2)] },
-            // Cupped hand for a power grasp: thumb rotated out, finger bases pre-flexed 0.4 rad.
+            // Open hand: fingers extended, the thumb turned into the opposed plane (base
+            // rotation 90°) but extended back along the palm towards the wrist, so nothing
+            // stands out in front of the palm and the palm reaches flat faces and wide objects
+            // first; closing flexes the thumb through 180° in front of the palm towards the
+            // fingers, pushing the object from the wrist side against them.
+            PreshapeSpec {
+                name: "open".into(),
+                joints: vec![(format!("{p}thumb_opposition"), FRAC_PI_2), (format!("{p}thumb_j1"), -FRAC_PI_2)],
+            },
+            // Power (wrap) preshape for narrow objects: thumb opposed and half raised (45° below
+            // the palm normal), so it closes on the object sooner.
             PreshapeSpec {
                 name: "power".into(),
-                joints: std::iter::once((format!("{p}thumb_opposition"), FRAC_PI_2))
-                    .chain(["index_j1", "middle_j1", "ring_j1"].iter().map(|j| (format!("{p}{j}"), 0.4)))
-                    .collect(),
+                joints: vec![(format!("{p}thumb_opposition"), FRAC_PI_2), (format!("{p}thumb_j1"), -FRAC_PI_4)],
             },
         ],
         fingers,
@@ -482,13 +490,15 @@ fn sdh_parts(p: &str) -> Parts {
     parts
 }
 
-/// Open SDH preshape: finger rotation `rotation`, proximal joints opened outwards by 0.6 rad and
-/// distal joints bent back so the fingertips stay parallel.
+/// Open SDH preshape: finger rotation `rotation`, proximal joints opened outwards by 1 rad and
+/// distal joints bent back so the distal phalanges stand parallel: the opposing fingers are
+/// about 19 cm apart, so the palm reaches objects as wide as the bread box (opened by only
+/// 0.6 rad, they were 6.5 cm apart at the height of an 8 cm can's axis and touched first).
 fn sdh_open(p: &str, rotation: f64) -> Vec<(String, f64)> {
     let mut v = vec![(format!("{p}f1_rotation"), rotation)];
     for f in ["f1", "f2", "f3"] {
-        v.push((format!("{p}{f}_j2"), -0.6));
-        v.push((format!("{p}{f}_j3"), 0.6));
+        v.push((format!("{p}{f}_j2"), -1.0));
+        v.push((format!("{p}{f}_j3"), 1.0));
     }
     v
 }

@@ -58,7 +58,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::contact::ObjectFrame;
 use crate::error::Result;
-use crate::evaluator::{EvaluationStatus, EvaluatorOptions, GraspEvaluator, PhysicsCheckOptions};
+use crate::evaluator::{EvaluationStatus, EvaluatorOptions, GraspEvaluator, HoldResult, PhysicsCheckOptions};
 use crate::planners::{
     GraspCandidate, GraspPlanner, GraspRequest, MedialAxisOptions, MedialAxisPlanner, SurfaceNormalOptions,
     SurfaceNormalPlanner,
@@ -206,6 +206,16 @@ pub struct CellResult {
     pub physics_tested: usize,
     /// Grasps that held the object in the physics check.
     pub physics_held: usize,
+    /// Of those, the ones where some gravity direction made the object slip but not drop.
+    #[serde(default)]
+    pub physics_slipped: usize,
+    /// Of those, the ones where some gravity direction dropped the object.
+    #[serde(default)]
+    pub physics_dropped: usize,
+    /// Of those, the ones where the squeeze alone (no gravity) moved the object farther than the
+    /// drop distance: the simulated grip itself pushes it out.
+    #[serde(default)]
+    pub physics_grip_moved: usize,
     /// Wall time for planning (s).
     pub planning_seconds: f64,
     /// Wall time for evaluation (s).
@@ -341,6 +351,7 @@ pub fn run_grasp_benchmark_with(
                     n => 0.5 * (eps[n / 2 - 1] + eps[n / 2]),
                 };
                 let (mut physics_tested, mut physics_held) = (0, 0);
+                let (mut physics_slipped, mut physics_dropped, mut physics_grip_moved) = (0, 0, 0);
                 let mut held_by_evaluation = vec![None; evaluations.len()];
                 let mut series_by_evaluation = vec![Vec::new(); evaluations.len()];
                 if config.physics_per_cell > 0 && !fc_palm.is_empty() {
@@ -350,6 +361,9 @@ pub fn run_grasp_benchmark_with(
                         let outcome = crate::evaluator::physics_check(hand, object, &evaluations[k], &config.physics)?;
                         physics_tested += 1;
                         physics_held += usize::from(outcome.held());
+                        physics_slipped += usize::from(outcome.result() == Some(HoldResult::Slipped));
+                        physics_dropped += usize::from(outcome.result() == Some(HoldResult::Dropped));
+                        physics_grip_moved += usize::from(outcome.grip_translation > config.physics.drop_translation);
                         held_by_evaluation[k] = Some(outcome.held());
                         if let (Some((array, _)), Some(options)) =
                             (&tactile, config.tactile.as_ref().and_then(|t| t.series.as_ref()))
@@ -413,6 +427,9 @@ pub fn run_grasp_benchmark_with(
                     median_epsilon,
                     physics_tested,
                     physics_held,
+                    physics_slipped,
+                    physics_dropped,
+                    physics_grip_moved,
                     planning_seconds,
                     evaluation_seconds,
                     evaluations_per_second: if evaluation_seconds > 0.0 {

@@ -217,7 +217,8 @@ fn flat_box_resting_on_a_pad_lights_the_expected_rectangle() {
 }
 
 /// The SDH closing on a 6 cm cylinder from the side (fingers 1, 3 against finger 2), 2 cm
-/// standoff: proximal and distal phalanges touch.
+/// standoff, from a half-open preshape (proximal joints opened 0.6 rad, distal bent back):
+/// proximal and distal phalanges touch.
 fn sdh_cylinder() -> (opengrasp_core::hand::Hand, ObjectModel, GraspEvaluation, ObjectFrame) {
     let hand = hands::sdh();
     let info = hand_info(&hand).unwrap();
@@ -226,7 +227,8 @@ fn sdh_cylinder() -> (opengrasp_core::hand::Hand, ObjectModel, GraspEvaluation, 
     let approach = Unit::new_normalize(-Vector3::x());
     let candidate = GraspCandidate {
         hand_pose: palm_pose(&info, &Point3::origin(), &approach, &Vector3::y()),
-        preshape: Preshape::Default,
+        // Closing joints (proximal, distal) of fingers 1, 2, 3.
+        preshape: Preshape::Joints([-0.6, 0.6].repeat(3)),
         approach,
         standoff: 0.02,
     };

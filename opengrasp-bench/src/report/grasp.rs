@@ -52,9 +52,9 @@ pub fn grasp_tables(g: &GraspSection) -> Vec<Table> {
                     Some(c) => {
                         row.push(c.palm_contact.to_string());
                         row.push(pct(c.force_closure_palm, c.palm_contact));
-                        row.push(format!("{:.4}", c.mean_epsilon));
+                        row.push(epsilon(c.mean_epsilon, c.force_closure_palm));
                         if with_physics {
-                            row.push(format!("{}/{}", c.physics_held, c.physics_tested));
+                            row.push(held(c.physics_held, c.physics_tested));
                         }
                     }
                     None => row.extend(std::iter::repeat_n("-".to_string(), 3 + usize::from(with_physics))),
@@ -82,11 +82,11 @@ pub fn grasp_tables(g: &GraspSection) -> Vec<Table> {
             } else {
                 pc.iter().map(|c| c.mean_epsilon * c.force_closure_palm as f64).sum::<f64>() / fc as f64
             };
-            total.extend([palm.to_string(), pct(fc, palm), format!("{eps:.4}")]);
+            total.extend([palm.to_string(), pct(fc, palm), epsilon(eps, fc)]);
             if with_physics {
                 let tested: usize = pc.iter().map(|c| c.physics_tested).sum();
-                let held: usize = pc.iter().map(|c| c.physics_held).sum();
-                total.push(format!("{held}/{tested}"));
+                let n_held: usize = pc.iter().map(|c| c.physics_held).sum();
+                total.push(held(n_held, tested));
             }
             if with_paper(p) {
                 let pr: Vec<_> = PAPER_RESULTS
@@ -129,8 +129,30 @@ pub fn grasp_tables(g: &GraspSection) -> Vec<Table> {
                 "At most {max} candidates evaluated per cell (an even stride over each planner's list); the paper evaluated all."
             ));
         }
-        legend.push("-: no data (no candidate tested, or no paper figure).".into());
+        legend.push(
+            "-: no data (no palm-contact grasp, no force-closure grasp for eps, none simulated for held, or no paper \
+             figure); 0.0 is a measured 0 %."
+                .into(),
+        );
         tables.push(Table { title: format!("{which}: grasp planners, hand {hand}"), headers, rows, legend });
     }
     tables
+}
+
+/// Mean epsilon of `n` force-closure grasps, `-` (no data) when there are none.
+fn epsilon(mean: f64, n: usize) -> String {
+    if n == 0 {
+        "-".into()
+    } else {
+        format!("{mean:.4}")
+    }
+}
+
+/// `held/simulated`, `-` (no data) when nothing was simulated.
+fn held(held: usize, tested: usize) -> String {
+    if tested == 0 {
+        "-".into()
+    } else {
+        format!("{held}/{tested}")
+    }
 }

@@ -6,6 +6,9 @@
 //!   every planner (medial axis and surface normals for the reference suite), the mean
 //!   epsilon of those force-closure grasps, the physics hold check (held / tested) when it
 //!   ran, the paper's numbers beside them when known, and a total row.
+//! - [`grasp_differences`]: every cell with a paper figure beside it, and the reason measured
+//!   in the records where they differ (evaluation cap, candidate count, palm-contact rule,
+//!   contact model), plus whether the planner ranking agrees with the paper's.
 //! - [`motion_tables`]: Table III, one row per planner per scene: runs, success, average
 //!   setup / planning / post-processing time, valid % of planned and post-processed paths,
 //!   C-space and end-effector lengths, clearance; plus a table of planning-time and
@@ -17,9 +20,11 @@
 use std::fmt::Write as _;
 
 mod grasp;
+mod grasp_diff;
 mod motion;
 
 pub use grasp::grasp_tables;
+pub use grasp_diff::{grasp_differences, AGREEMENT_PP};
 pub use motion::motion_tables;
 
 use crate::results::{GraspSection, MotionSection, ResultsFile};
@@ -241,6 +246,7 @@ pub fn tables(results: &ResultsFile) -> Vec<Table> {
     let mut t = vec![provenance_table(results)];
     if let Some(g) = &results.grasp {
         t.extend(grasp_tables(g));
+        t.extend(grasp_differences(g));
     }
     if let Some(m) = &results.motion {
         t.extend(motion_tables(m));
@@ -255,7 +261,9 @@ pub fn render(results: &ResultsFile, format: Format) -> String {
 
 /// Renders the grasp tables of a section.
 pub fn grasp_table(g: &GraspSection, format: Format) -> String {
-    render_all(&grasp_tables(g), format)
+    let mut t = grasp_tables(g);
+    t.extend(grasp_differences(g));
+    render_all(&t, format)
 }
 
 /// Renders the motion tables of a section.

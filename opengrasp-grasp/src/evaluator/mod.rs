@@ -41,7 +41,7 @@ use opengrasp_core::object::ObjectModel;
 pub use hand_data::hand_info;
 use hand_data::{hand_data, hand_radius, HandData};
 pub use options::EvaluatorOptions;
-pub use physics::{physics_check, physics_check_with, PhysicsCheckOptions, PhysicsOutcome};
+pub use physics::{physics_check, physics_check_with, HoldResult, PhysicsCheckOptions, PhysicsOutcome};
 
 /// How an evaluation ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

@@ -36,6 +36,13 @@ pub struct PhysicsCheckOptions {
     pub max_translation: f64,
     /// ... and turns it less than this (rad), measured the same way. Default: 0.35 (20°).
     pub max_rotation: f64,
+    /// Hold the object at its evaluated pose while the fingers squeeze during `settle` (as a
+    /// table or fixture supports it while a real hand closes), then release it: the fingers
+    /// meet it one after the other without pushing it away in zero gravity. Default: true.
+    pub fixture: bool,
+    /// An object that is not held counts as dropped if gravity moved it farther than this
+    /// (m), as slipped (it moved in the hand but stayed near it) otherwise. Default: 0.1.
+    pub drop_translation: f64,
     /// Simulator settings (gravity is overridden; the hand's link friction is replaced by the
     /// object's friction coefficient, so the contacts have the μ the evaluator assumed).
     /// Default: [`PhysicsOptions::default`] with `contact_frequency` 30 Hz (rapier's own
@@ -54,26 +61,56 @@ impl Default for PhysicsCheckOptions {
             squeeze: 0.05,
             max_translation: 0.02,
             max_rotation: 0.35,
+            drop_translation: 0.1,
+            fixture: true,
             physics: PhysicsOptions { contact_frequency: 30.0, ..PhysicsOptions::default() },
         }
     }
 }
 
+/// What gravity did to the grasped object in one direction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+pub enum HoldResult {
+    /// Moved less than `max_translation` and turned less than `max_rotation`.
+    Held,
+    /// Moved or turned more, but stayed within `drop_translation` (the grasp shifted).
+    Slipped,
+    /// Moved farther than `drop_translation`: the object left the hand.
+    Dropped,
+}
+
 /// Result of a physics check: how far the object moved under each gravity direction.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PhysicsOutcome {
-    /// Object displacement (m) per gravity direction.
+    /// Object displacement (m) per gravity direction, relative to the gravity-free control run.
     pub translations: Vec<f64>,
-    /// Object rotation (rad) per gravity direction.
+    /// Object rotation (rad) per gravity direction, relative to the control run.
     pub rotations: Vec<f64>,
     /// Whether the object stayed in the hand, per gravity direction.
     pub held_per_direction: Vec<bool>,
+    /// Held, slipped or dropped, per gravity direction.
+    #[serde(default)]
+    pub results: Vec<HoldResult>,
+    /// How far (m) the squeeze alone moved the object from its evaluated pose in the
+    /// gravity-free control run: a few centimetres of creep are a solver artefact (see
+    /// [`PhysicsCheckOptions::physics`]); more than `drop_translation` means the simulated grip
+    /// pushes the object out by itself.
+    #[serde(default)]
+    pub grip_translation: f64,
+    /// How far (rad) the squeeze alone turned the object in the control run.
+    #[serde(default)]
+    pub grip_rotation: f64,
 }
 
 impl PhysicsOutcome {
     /// True if the object stayed in the hand for every gravity direction.
     pub fn held(&self) -> bool {
         !self.held_per_direction.is_empty() && self.held_per_direction.iter().all(|&h| h)
+    }
+
+    /// The worst result over the gravity directions (`None` without directions).
+    pub fn result(&self) -> Option<HoldResult> {
+        self.results.iter().copied().max()
     }
 }
 
@@ -100,7 +137,9 @@ pub fn physics_check(
 /// also replaces the links' friction) is held for a direction if its final pose differs from
 /// the final pose of a gravity-free control run of the same length by at most
 /// `max_translation` and `max_rotation`: the difference is what gravity did, while slow
-/// squeeze-induced creep of the simulator, present in both runs, cancels out.
+/// squeeze-induced creep of the simulator, present in both runs, cancels out. A direction that
+/// is not held is [`HoldResult::Dropped`] beyond `drop_translation`, else
+/// [`HoldResult::Slipped`]; the control run's own motion is reported as the grip displacement.
 ///
 /// # Errors
 /// [`GraspError::InvalidParameter`] for bad options or an evaluation without a closed hand;
@@ -119,6 +158,7 @@ pub fn physics_check_with<E: PhysicsEngine>(
         ("duration", options.duration),
         ("max_translation", options.max_translation),
         ("max_rotation", options.max_rotation),
+        ("drop_translation", options.drop_translation),
     ] {
         crate::planners::check_positive(name, v)?;
     }
@@ -152,7 +192,12 @@ pub fn physics_check_with<E: PhysicsEngine>(
     let run = |gravity: Vector3<f64>| -> Result<Isometry3<f64>> {
         let mut engine = E::from_scene(&scene, &physics)?;
         engine.set_joint_position_targets(rid, &target)?;
-        engine.step_n(settle_steps, dt)?;
+        for _ in 0..settle_steps {
+            engine.step(dt)?;
+            if options.fixture {
+                engine.set_object_pose(oid, Isometry3::identity())?;
+            }
+        }
         engine.set_gravity(gravity)?;
         engine.step_n(steps, dt)?;
         Ok(engine.object_pose(oid)?)
@@ -166,14 +211,29 @@ pub fn physics_check_with<E: PhysicsEngine>(
         gravities.push(dir * (options.gravity / n));
     }
     let control = run(Vector3::zeros())?;
-    let mut out = PhysicsOutcome { translations: Vec::new(), rotations: Vec::new(), held_per_direction: Vec::new() };
+    let mut out = PhysicsOutcome {
+        translations: Vec::new(),
+        rotations: Vec::new(),
+        held_per_direction: Vec::new(),
+        results: Vec::new(),
+        grip_translation: control.translation.vector.norm(),
+        grip_rotation: control.rotation.angle(),
+    };
     for g in gravities {
         let pose = run(g)?;
         let translation = (pose.translation.vector - control.translation.vector).norm();
         let rotation = pose.rotation.angle_to(&control.rotation);
+        let held = translation <= options.max_translation && rotation <= options.max_rotation;
         out.translations.push(translation);
         out.rotations.push(rotation);
-        out.held_per_direction.push(translation <= options.max_translation && rotation <= options.max_rotation);
+        out.held_per_direction.push(held);
+        out.results.push(if held {
+            HoldResult::Held
+        } else if translation > options.drop_translation {
+            HoldResult::Dropped
+        } else {
+            HoldResult::Slipped
+        });
     }
     Ok(out)
 }
