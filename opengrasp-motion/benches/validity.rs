@@ -2,7 +2,8 @@
 //! states (per state), a motion (coarse to fine), and RRT-Connect on it (kd-tree and linear-scan nearest neighbours), for core's 7-DoF sample
 //! arm in a small cupboard (table, shelf, divider, back wall: the stand-in scene of the
 //! standard suite, rebuilt here so the bench needs no other crate), and one nearest-neighbour
-//! query among 10,000 configurations.
+//! query among 10,000 configurations, and a state check with a mesh forearm under each mesh
+//! cover (bounding-box grid, voxels, adaptive).
 //!
 //! ```sh
 //! cargo bench -p opengrasp-motion --bench validity -- --warm-up-time 1 --measurement-time 3
@@ -16,11 +17,11 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use nalgebra::{Isometry3, Vector3};
-use opengrasp_core::model::{samples, JointGroup};
+use nalgebra::{Isometry3, Point3, UnitQuaternion, Vector3};
+use opengrasp_core::model::{samples, Geometry, JointGroup, Shape, TriangleMesh};
 use opengrasp_motion::nearest::{KdTree, LinearScan, NearestNeighbors};
 use opengrasp_motion::planners::{NeighborStructure, RrtConnect};
-use opengrasp_motion::validity::{ObstacleBox, SphereWorld, StateValidityChecker};
+use opengrasp_motion::validity::{MeshCover, ObstacleBox, SphereWorld, StateValidityChecker};
 use opengrasp_motion::{Goal, MotionPlanner, PlanningProblem};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -111,5 +112,60 @@ fn nearest(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, validity, nearest);
+/// One state check of a 7-DoF arm whose forearm (`link4`) is a tilted cylinder mesh, with
+/// the mesh covered by the bounding-box grid, 10 mm voxels or adaptive spheres (≤ 40 mm).
+fn mesh_covers(c: &mut Criterion) {
+    let mut robot = samples::seven_dof_arm().expect("sample arm");
+    let n = 16;
+    let mut vertices = vec![Point3::new(0.0, 0.0, -0.1), Point3::new(0.0, 0.0, 0.1)];
+    for i in 0..n {
+        let a = std::f64::consts::TAU * f64::from(i) / f64::from(n);
+        vertices.extend([
+            Point3::new(0.06 * a.cos(), 0.06 * a.sin(), -0.1),
+            Point3::new(0.06 * a.cos(), 0.06 * a.sin(), 0.1),
+        ]);
+    }
+    let mut triangles = Vec::new();
+    for i in 0..n {
+        let (b0, t0, b1, t1) = (2 + 2 * i, 3 + 2 * i, 2 + 2 * ((i + 1) % n), 3 + 2 * ((i + 1) % n));
+        triangles.extend([[0, b1, b0], [1, t0, t1], [b0, b1, t1], [b0, t1, t0]]);
+    }
+    let mesh = Arc::new(TriangleMesh::new(vertices, triangles).expect("cylinder mesh"));
+    let origin =
+        Isometry3::from_parts(Vector3::new(0.0, 0.0, 0.1).into(), UnitQuaternion::from_euler_angles(0.3, 0.0, 0.0));
+    let link4 = robot.link_id("link4").expect("link4");
+    robot.link_mut(link4).collisions = vec![Shape::new(origin, Geometry::Mesh(mesh))];
+    let robot = Arc::new(robot);
+    let group = robot.group("arm").expect("arm group").clone();
+    let q_full = robot.home_configuration();
+    let limits = JointGroup::limits(&group, &robot);
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let states: Vec<Vec<f64>> =
+        (0..64).map(|_| limits.iter().map(|&(lo, hi)| lo + (hi - lo) * rng.random::<f64>()).collect()).collect();
+    let covers = [
+        ("bounding_box", MeshCover::BoundingBox),
+        ("voxels_10mm", MeshCover::Voxels { cell: 0.01 }),
+        ("adaptive_40mm", MeshCover::Adaptive { cell: 0.005, max_overhang: 0.04 }),
+    ];
+    for (name, cover) in covers {
+        let world = SphereWorld::with_mesh_cover(
+            robot.clone(),
+            group.clone(),
+            q_full.clone(),
+            Isometry3::identity(),
+            cupboard(),
+            cover,
+        )
+        .expect("sphere world");
+        let mut k = 0;
+        c.bench_function(&format!("mesh_link_7dof/state_check_{name}_{}_spheres", world.sphere_count()), |b| {
+            b.iter(|| {
+                k = (k + 1) % states.len();
+                world.is_valid(black_box(&states[k]))
+            })
+        });
+    }
+}
+
+criterion_group!(benches, validity, nearest, mesh_covers);
 criterion_main!(benches);

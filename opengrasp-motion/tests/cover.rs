@@ -10,7 +10,9 @@ use opengrasp_core::collision::CollisionWorld;
 use opengrasp_core::model::{Geometry, JointGroup, JointKind, JointSpec, Link, RobotBuilder, Shape, TriangleMesh};
 use opengrasp_core::scene::{Scene, StaticBody};
 use opengrasp_core::urdf::{self, InMemoryResolver};
-use opengrasp_motion::validity::cover::{bounding_box_cover, surface_distance, voxel_cover, SphereCover};
+use opengrasp_motion::validity::cover::{
+    adaptive_cover, bounding_box_cover, surface_distance, voxel_cover, SphereCover,
+};
 use opengrasp_motion::validity::{CollisionChecker, MeshCover, ObstacleBox, SphereWorld, StateValidityChecker};
 use opengrasp_motion::MotionError;
 use proptest::prelude::*;
@@ -90,6 +92,12 @@ proptest! {
         // Every kept cell meets the bounding box of a surface piece no wider than the cell:
         // no sphere reaches more than 2√3 cells past the surface.
         prop_assert!(cover.overhang(&mesh) <= 2.0 * 3f64.sqrt() * cell * (1.0 + 1e-6) + 1e-6);
+        // Merged octree-wise within a budget: still everything covered, fewer spheres.
+        let budget = 3.0 * cell;
+        let merged = adaptive_cover(&mesh, cell, budget).unwrap();
+        prop_assert!(uncovered(&merged, &mesh, seed + 1).is_empty());
+        prop_assert!(merged.spheres.len() <= cover.spheres.len());
+        prop_assert!(merged.overhang(&mesh) <= budget.max(2.0 * 3f64.sqrt() * cell) * (1.0 + 1e-6) + 1e-6);
     }
 }
 
@@ -100,33 +108,31 @@ fn voxel_cover_trades_spheres_for_overhang() {
     let pose =
         Isometry3::from_parts(Vector3::new(0.1, -0.2, 0.3).into(), UnitQuaternion::from_euler_angles(0.4, 0.7, 0.1));
     let mesh = cylinder(0.05, 0.3, 12).transformed(&pose);
+    // Checks the cover, prints its row and returns its overhang.
+    let row = |label: String, cover: &SphereCover| {
+        assert!(uncovered(cover, &mesh, 2).is_empty(), "{label}");
+        let radii = cover.spheres.iter().map(|s| s.1);
+        let (lo, hi) = (radii.clone().fold(f64::INFINITY, f64::min), radii.fold(0.0, f64::max));
+        let overhang = cover.overhang(&mesh);
+        println!("{label:17} {:7}  {:5.1}–{:5.1}  {:17.1}", cover.spheres.len(), lo * 1e3, hi * 1e3, overhang * 1e3);
+        overhang
+    };
+    println!("cover             spheres  radius [mm]  max overhang [mm]");
     let boxed = bounding_box_cover(&mesh);
-    assert!(uncovered(&boxed, &mesh, 1).is_empty());
-    println!("cover            spheres  radius [mm]  max overhang [mm]");
-    println!(
-        "bounding box     {:7}  {:11.1}  {:17.1}",
-        boxed.spheres.len(),
-        boxed.spheres[0].1 * 1e3,
-        boxed.overhang(&mesh) * 1e3
-    );
+    let boxed_overhang = row("bounding box".into(), &boxed);
     let mut last = f64::INFINITY;
     for cell in [0.08, 0.04, 0.02, 0.01] {
-        let cover = voxel_cover(&mesh, cell).unwrap();
-        assert!(uncovered(&cover, &mesh, 2).is_empty(), "cell {cell}");
-        let overhang = cover.overhang(&mesh);
-        println!(
-            "voxel {:4.0} mm    {:7}  {:11.1}  {:17.1}",
-            cell * 1e3,
-            cover.spheres.len(),
-            cover.spheres[0].1 * 1e3,
-            overhang * 1e3
-        );
+        let overhang = row(format!("voxel {:.0} mm", cell * 1e3), &voxel_cover(&mesh, cell).unwrap());
         assert!(overhang <= 2.0 * 3f64.sqrt() * cell + 1e-6 && overhang < last, "cell {cell}: {overhang}");
         last = overhang;
     }
+    for budget in [0.08, 0.04, 0.02] {
+        let overhang = row(format!("adaptive ≤{:.0} mm", budget * 1e3), &adaptive_cover(&mesh, 0.005, budget).unwrap());
+        assert!(overhang <= budget + 1e-9, "budget {budget}: {overhang}");
+    }
     // At 1 cm cells the voxel cover reaches at most 2√3 cm past the surface; the box grid
     // reaches past the tilted cylinder's bounding box.
-    assert!(last < 0.035 && boxed.overhang(&mesh) > 0.1, "{last} vs {}", boxed.overhang(&mesh));
+    assert!(last < 0.035 && boxed_overhang > 0.1, "{last} vs {boxed_overhang}");
 }
 
 #[test]
@@ -145,6 +151,13 @@ fn bad_cell_sizes_are_typed_errors() {
     let cube = TriangleMesh::cuboid(Vector3::new(1.0, 1.0, 1.0)).unwrap();
     for cell in [0.0, -0.1, f64::NAN, f64::INFINITY, 1e-5] {
         assert!(matches!(voxel_cover(&cube, cell), Err(MotionError::InvalidParameter { name: "cell", .. })), "{cell}");
+        assert!(matches!(adaptive_cover(&cube, cell, 0.1), Err(MotionError::InvalidParameter { name: "cell", .. })));
+    }
+    for budget in [-0.1, f64::NAN] {
+        assert!(matches!(
+            adaptive_cover(&cube, 0.1, budget),
+            Err(MotionError::InvalidParameter { name: "max_overhang", .. })
+        ));
     }
 }
 
@@ -212,6 +225,8 @@ fn voxel_mesh_cover_is_sound_and_tighter_in_a_sphere_world() {
     };
     let (boxed, cell) = (sphere_world(MeshCover::BoundingBox), 0.01);
     let voxels = sphere_world(MeshCover::Voxels { cell });
+    let adaptive = sphere_world(MeshCover::Adaptive { cell: 0.005, max_overhang: 0.02 });
+    let mut by_adaptive = 0;
     assert!(voxels.sphere_count() > boxed.sphere_count());
     let mut scene = Scene::new("wall");
     let id = scene.add_robot("swing", robot.clone(), Isometry3::identity()).unwrap();
@@ -230,17 +245,28 @@ fn voxel_mesh_cover_is_sound_and_tighter_in_a_sphere_world() {
         } else {
             assert!(clearance <= 2.0 * 3f64.sqrt() * cell + 1e-6, "{q:?}: rejected {clearance} m from the wall");
         }
+        if adaptive.is_valid(&q) {
+            by_adaptive += 1;
+            assert!(exact.is_valid(&q), "{q:?}");
+        } else {
+            assert!(clearance <= 0.02 + 1e-6, "{q:?}: adaptive cover rejected {clearance} m from the wall");
+        }
         if boxed.is_valid(&q) {
             by_box += 1;
             assert!(exact.is_valid(&q), "{q:?}");
         }
     }
     println!(
-        "of 3001 swing angles: voxel cover ({} spheres) accepts {by_voxels}, box grid ({} spheres) {by_box}",
+        "of 3001 swing angles: voxel cover ({} spheres) accepts {by_voxels}, adaptive ({} spheres) {by_adaptive}, box \
+         grid ({} spheres) {by_box}",
         voxels.sphere_count(),
+        adaptive.sphere_count(),
         boxed.sphere_count()
     );
-    assert!(by_voxels > by_box && by_box > 1000, "voxels accept {by_voxels}, box grid {by_box}");
+    assert!(
+        by_voxels > by_box && by_adaptive > by_box && by_box > 1000,
+        "voxels accept {by_voxels}, adaptive {by_adaptive}, box grid {by_box}"
+    );
     assert!(matches!(
         SphereWorld::with_mesh_cover(
             robot.clone(),

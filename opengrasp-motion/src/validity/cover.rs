@@ -5,6 +5,8 @@
 //!   diagonal (plus a rounding margin). No sphere reaches farther than `2√3 · cell` from the
 //!   surface (a kept cell meets the bounding box of a surface piece no wider than `cell`), so
 //!   the cover tightens with the cell size.
+//! - [`adaptive_cover`]: the voxel cover with cells merged octree-wise into larger spheres
+//!   wherever a larger sphere stays within a given overhang: far fewer spheres, same guarantee.
 //! - [`bounding_box_cover`]: the cover [`SphereWorld`](super::SphereWorld) uses for meshes: a
 //!   grid of spheres over the mesh's bounding box (cells as wide as its thinnest side).
 //!   Guaranteed as well, but it fills the whole box.
@@ -94,52 +96,116 @@ fn closest_on_triangle(p: &Point3<f64>, a: &Point3<f64>, b: &Point3<f64>, c: &Po
 /// [`MotionError::InvalidParameter`] if `cell` is not a positive finite length or would need
 /// more than [`MAX_COVER_PIECES`] triangle pieces.
 pub fn voxel_cover(mesh: &TriangleMesh, cell: f64) -> Result<SphereCover> {
-    let invalid = |reason: String| MotionError::InvalidParameter { name: "cell", reason };
-    if !(cell.is_finite() && cell > 0.0) {
-        return Err(invalid(format!("{cell} is not a positive length")));
+    let grid = Grid::new(mesh, cell)?;
+    let spheres = grid.cells.iter().map(|&c| (grid.centre(c, 0), grid.radius(0))).collect();
+    Ok(SphereCover { spheres })
+}
+
+/// Like [`voxel_cover`], but merges cells octree-wise into larger spheres wherever the
+/// larger sphere reaches at most `max_overhang` (m) past the surface (measured exactly:
+/// distance from its centre to the surface plus its radius). Every surface point stays
+/// covered; the overhang is at most `max_overhang.max(2√3 · cell)`.
+///
+/// # Errors
+/// As [`voxel_cover`]; [`MotionError::InvalidParameter`] for a negative or non-finite
+/// `max_overhang`.
+pub fn adaptive_cover(mesh: &TriangleMesh, cell: f64, max_overhang: f64) -> Result<SphereCover> {
+    if !(max_overhang.is_finite() && max_overhang >= 0.0) {
+        return Err(MotionError::InvalidParameter {
+            name: "max_overhang",
+            reason: format!("{max_overhang} is not a length ≥ 0"),
+        });
     }
-    let v = mesh.vertices();
-    let longest = |t: &[Point3<f64>; 3]| (t[1] - t[0]).norm().max((t[2] - t[1]).norm()).max((t[0] - t[2]).norm());
-    let tris: Vec<[Point3<f64>; 3]> =
-        mesh.triangles().iter().map(|t| [v[t[0] as usize], v[t[1] as usize], v[t[2] as usize]]).collect();
-    let mut pieces = 0usize;
-    for t in &tris {
-        let levels = (longest(t) / cell).log2().ceil().max(0.0);
-        pieces = pieces.saturating_add(4usize.saturating_pow(levels.min(31.0) as u32));
+    let grid = Grid::new(mesh, cell)?;
+    // Occupied cells per level: level `l` cells are 2^l fine cells wide.
+    let extent = grid.cells.iter().map(|c| c.0.max(c.1).max(c.2)).max().unwrap_or(0).max(1);
+    let top = (u64::BITS - (extent as u64).leading_zeros()) as usize;
+    let mut levels = vec![grid.cells.clone()];
+    for l in 1..=top {
+        levels.push(levels[l - 1].iter().map(|&(i, j, k)| (i >> 1, j >> 1, k >> 1)).collect());
     }
-    if pieces > MAX_COVER_PIECES {
-        return Err(invalid(format!("{cell} m needs {pieces} triangle pieces, more than {MAX_COVER_PIECES}")));
-    }
-    let (lo, hi) = mesh.aabb();
-    let index = |x: f64, o: f64| ((x - o) / cell).floor() as i64;
-    let mut cells = BTreeSet::new();
-    let mut stack = tris;
-    while let Some(t) = stack.pop() {
-        if longest(&t) > cell {
-            let m = [nalgebra::center(&t[0], &t[1]), nalgebra::center(&t[1], &t[2]), nalgebra::center(&t[2], &t[0])];
-            stack.extend([[t[0], m[0], m[2]], [m[0], t[1], m[1]], [m[2], m[1], t[2]], m]);
+    let mut spheres = Vec::new();
+    let mut stack: Vec<(usize, Cell)> = levels[top].iter().map(|&c| (top, c)).collect();
+    while let Some((l, c)) = stack.pop() {
+        let (centre, r) = (grid.centre(c, l), grid.radius(l));
+        if l == 0 || surface_distance(mesh, &centre) + r <= max_overhang {
+            spheres.push((centre, r));
             continue;
         }
-        let a = t[0].coords.inf(&t[1].coords).inf(&t[2].coords);
-        let b = t[0].coords.sup(&t[1].coords).sup(&t[2].coords);
-        for i in index(a.x, lo.x)..=index(b.x, lo.x) {
-            for j in index(a.y, lo.y)..=index(b.y, lo.y) {
-                for k in index(a.z, lo.z)..=index(b.z, lo.z) {
-                    cells.insert((i, j, k));
-                }
+        for d in 0..8 {
+            let child = (2 * c.0 + (d & 1), 2 * c.1 + ((d >> 1) & 1), 2 * c.2 + ((d >> 2) & 1));
+            if levels[l - 1].contains(&child) {
+                stack.push((l - 1, child));
             }
         }
     }
-    let scale = lo.coords.amax().max(hi.coords.amax()) + cell;
-    let r = cell * 0.5 * 3f64.sqrt() + 1e-9 * scale;
-    let spheres = cells
-        .into_iter()
-        .map(|(i, j, k)| {
-            let centre = Vector3::new(i as f64 + 0.5, j as f64 + 0.5, k as f64 + 0.5) * cell;
-            (lo + centre, r)
-        })
-        .collect();
     Ok(SphereCover { spheres })
+}
+
+type Cell = (i64, i64, i64);
+
+/// The cells of edge `cell` from the mesh's bounding-box minimum that its surface touches
+/// (a superset: cells meeting the bounding box of a surface piece no wider than a cell).
+struct Grid {
+    origin: Point3<f64>,
+    cell: f64,
+    margin: f64,
+    cells: BTreeSet<Cell>,
+}
+
+impl Grid {
+    fn new(mesh: &TriangleMesh, cell: f64) -> Result<Self> {
+        let invalid = |reason: String| MotionError::InvalidParameter { name: "cell", reason };
+        if !(cell.is_finite() && cell > 0.0) {
+            return Err(invalid(format!("{cell} is not a positive length")));
+        }
+        let v = mesh.vertices();
+        let longest = |t: &[Point3<f64>; 3]| (t[1] - t[0]).norm().max((t[2] - t[1]).norm()).max((t[0] - t[2]).norm());
+        let tris: Vec<[Point3<f64>; 3]> =
+            mesh.triangles().iter().map(|t| [v[t[0] as usize], v[t[1] as usize], v[t[2] as usize]]).collect();
+        let mut pieces = 0usize;
+        for t in &tris {
+            let levels = (longest(t) / cell).log2().ceil().max(0.0);
+            pieces = pieces.saturating_add(4usize.saturating_pow(levels.min(31.0) as u32));
+        }
+        if pieces > MAX_COVER_PIECES {
+            return Err(invalid(format!("{cell} m needs {pieces} triangle pieces, more than {MAX_COVER_PIECES}")));
+        }
+        let (lo, hi) = mesh.aabb();
+        let index = |x: f64, o: f64| ((x - o) / cell).floor() as i64;
+        let mut cells = BTreeSet::new();
+        let mut stack = tris;
+        while let Some(t) = stack.pop() {
+            if longest(&t) > cell {
+                let m =
+                    [nalgebra::center(&t[0], &t[1]), nalgebra::center(&t[1], &t[2]), nalgebra::center(&t[2], &t[0])];
+                stack.extend([[t[0], m[0], m[2]], [m[0], t[1], m[1]], [m[2], m[1], t[2]], m]);
+                continue;
+            }
+            let a = t[0].coords.inf(&t[1].coords).inf(&t[2].coords);
+            let b = t[0].coords.sup(&t[1].coords).sup(&t[2].coords);
+            for i in index(a.x, lo.x).max(0)..=index(b.x, lo.x) {
+                for j in index(a.y, lo.y).max(0)..=index(b.y, lo.y) {
+                    for k in index(a.z, lo.z).max(0)..=index(b.z, lo.z) {
+                        cells.insert((i, j, k));
+                    }
+                }
+            }
+        }
+        let margin = 1e-9 * (lo.coords.amax().max(hi.coords.amax()) + cell);
+        Ok(Self { origin: lo, cell, margin, cells })
+    }
+
+    /// Centre of cell `c` of level `l` (2^l fine cells wide).
+    fn centre(&self, c: Cell, l: usize) -> Point3<f64> {
+        let w = self.cell * (1u64 << l) as f64;
+        self.origin + Vector3::new(c.0 as f64 + 0.5, c.1 as f64 + 0.5, c.2 as f64 + 0.5) * w
+    }
+
+    /// Radius of the sphere through the corners of a level-`l` cell, plus the rounding margin.
+    fn radius(&self, l: usize) -> f64 {
+        self.cell * (1u64 << l) as f64 * 0.5 * 3f64.sqrt() + self.margin
+    }
 }
 
 /// The bounding-box grid cover [`SphereWorld`](super::SphereWorld) uses for meshes.

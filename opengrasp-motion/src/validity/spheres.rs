@@ -104,6 +104,14 @@ pub enum MeshCover {
         /// Cell edge (m).
         cell: f64,
     },
+    /// Voxels merged into larger spheres within an overhang budget
+    /// ([`cover::adaptive_cover`]): every surface point covered, fewer spheres.
+    Adaptive {
+        /// Smallest cell edge (m).
+        cell: f64,
+        /// Largest reach of a sphere past the surface (m), at least `2√3 · cell`.
+        max_overhang: f64,
+    },
 }
 
 fn cover_shape(
@@ -128,6 +136,7 @@ fn cover_shape(
             let cover = match meshes {
                 MeshCover::BoundingBox => cover::bounding_box_cover(mesh),
                 MeshCover::Voxels { cell } => cover::voxel_cover(mesh, cell)?,
+                MeshCover::Adaptive { cell, max_overhang } => cover::adaptive_cover(mesh, cell, max_overhang)?,
             };
             out.extend(cover.spheres.iter().map(|(c, r)| (origin * c, *r)));
         }
