@@ -62,6 +62,7 @@ mod submission;
 mod summary;
 mod text;
 mod tokens;
+pub mod verify;
 
 use std::cmp::Ordering;
 use std::path::Path;

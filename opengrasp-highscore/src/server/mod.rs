@@ -64,6 +64,10 @@ pub struct ServerOptions {
     /// Whether uploads need an API token (`Authorization: Bearer`, see
     /// [`Store::issue_token`](super::Store::issue_token)). Default: `true`.
     pub require_token: bool,
+    /// Motion runs of reference planners replayed from their seeds per upload (see
+    /// [`verify_sample`](crate::verify::verify_sample)); an upload whose replayed runs
+    /// differ is refused with 422. Default: 0 (off).
+    pub verify_sample: usize,
 }
 
 impl Default for ServerOptions {
@@ -75,6 +79,7 @@ impl Default for ServerOptions {
             body_read_timeout: Duration::from_secs(30),
             connection_lifetime: Duration::from_secs(120),
             require_token: true,
+            verify_sample: 0,
         }
     }
 }

@@ -308,6 +308,7 @@ async fn submit(State(state): State<Shared>, headers: HeaderMap, body: Body) -> 
     // commit: concurrent uploads share one transaction; each is answered once durable.
     let result = blocking(move || {
         let submission = parse_upload(&bytes, team)?;
+        reverify(&submission, s.options.verify_sample)?;
         let done = s.db.insert_grouped(submission)?;
         Ok(Submitted { id: done.inserted.id, benchmarks: done.benchmarks, duplicate: done.inserted.duplicate })
     })
@@ -331,4 +332,21 @@ fn parse_upload(bytes: &[u8], team: Option<String>) -> Result<Submission> {
         (None, asked) => asked,
     };
     Submission::from_json(u.results.get(), Submitter { name: u.submitter, team })
+}
+
+/// Replays `sample` reference runs of the upload (drawn with a seed taken from its content
+/// hash: deterministic per upload, not chosen by the submitter).
+fn reverify(submission: &Submission, sample: usize) -> Result<()> {
+    if sample == 0 {
+        return Ok(());
+    }
+    let seed = u64::from_str_radix(submission.content_hash.get(..16).unwrap_or("0"), 16).unwrap_or(0);
+    let v = crate::verify::verify_sample(&submission.results, sample, seed)?;
+    match v.mismatches.first() {
+        None => Ok(()),
+        Some(first) => Err(HighscoreError::field(
+            "results",
+            format!("{} of {} replayed runs differ from the upload; first: {first}", v.mismatches.len(), v.checked),
+        )),
+    }
 }
