@@ -285,9 +285,12 @@ fn layout(bin: &Path, profile: &Path, url: &str) -> serde_json::Value {
 #[test]
 fn pages_render_in_headless_chromium() {
     let Some(bin) = chromium() else {
-        eprintln!(
-            "\n=== SKIPPED pages_render_in_headless_chromium: no chromium binary (apt-get install chromium) ===\n"
-        );
+        // Also straight to the process's standard error: not swallowed by the harness's capture.
+        let msg =
+            "\n=== SKIPPED pages_render_in_headless_chromium: no chromium binary (apt-get install chromium) ===\n\n";
+        eprint!("{msg}");
+        let _ =
+            std::fs::OpenOptions::new().append(true).open("/dev/stderr").and_then(|mut f| f.write_all(msg.as_bytes()));
         return;
     };
     let dir = std::env::temp_dir().join(format!("opengrasp-browser-{}", std::process::id()));
