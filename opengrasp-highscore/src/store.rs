@@ -25,7 +25,9 @@
 //!   every stored submission when a v1 database is migrated), so a ranking is one query.
 //! - (v2) `tokens(id, team, hash, created_at, revoked)`: API tokens, SHA-256 hashed.
 //!
-//! Each submission is written in one transaction. The database runs in WAL mode with
+//! Each submission is written in one transaction ([`Store::insert_submission`]), or several
+//! in one transaction under a savepoint each ([`Store::insert_batch`], the web service's group
+//! commit). The database runs in WAL mode with
 //! `synchronous = FULL`: readers never wait for the writer and an acknowledged submission
 //! survives a crash of the process or the machine.
 

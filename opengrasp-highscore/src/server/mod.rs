@@ -17,9 +17,13 @@
 //! malformed JSON or wrong shape, `401` missing or invalid token, `409` results already
 //! submitted by someone else, `413` body above the limit (answered from `Content-Length`
 //! before reading), `408` body not received in time, `422` invalid values or unknown benchmark
-//! in an upload, `404` unknown benchmark or submission, `503` (with `Retry-After`) when the
+//! in an upload (or, with [`ServerOptions::verify_sample`], replayed runs that differ from it),
+//! `404` unknown benchmark or submission, `503` (with `Retry-After`) when the
 //! database is locked by another writer, `500` other database failures. A rejected upload
-//! writes nothing (one transaction per submission).
+//! writes nothing (a savepoint per submission). Uploads are stored with group commit
+//! ([`Db::insert_grouped`](super::Db::insert_grouped)): those that arrive while a transaction
+//! commits are written together in the next one, and each is answered only once its commit
+//! is durable.
 //!
 //! # Hardening
 //!
