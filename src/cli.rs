@@ -12,7 +12,7 @@
 //! opengrasp submit results.json --name NAME [--team TEAM] [--db highscore.sqlite]
 //! opengrasp submit results.json --name NAME --server http://HOST:PORT [--token TOKEN]
 //! opengrasp highscore [BENCHMARK] [--db highscore.sqlite]
-//! opengrasp serve [--db highscore.sqlite] [--addr 127.0.0.1:8080] [--max-connections N]
+//! opengrasp serve [--db highscore.sqlite] [--addr 127.0.0.1:8080] [--max-connections N] [--verify-sample K]
 //! opengrasp token issue --team TEAM | list | revoke ID [--db highscore.sqlite]
 //! ```
 
@@ -319,6 +319,10 @@ pub enum Command {
         /// Most connections served at once.
         #[arg(long, default_value_t = 256)]
         max_connections: usize,
+        /// Replay this many motion runs of reference planners per upload from their seeds and
+        /// refuse (422) an upload whose replays differ; 0: off.
+        #[arg(long, default_value_t = 0)]
+        verify_sample: usize,
     },
     /// Manage the API tokens of networked submission (administrator).
     Token {
@@ -605,8 +609,8 @@ pub fn execute(cli: Cli) -> std::result::Result<(), CliError> {
             let rankings = crate::highscore::ranking(&db, benchmark.as_deref())?;
             print!("{}", crate::highscore::render_rankings(&rankings));
         }
-        Command::Serve { db, addr, max_connections } => {
-            let options = crate::highscore::ServerOptions { max_connections, ..Default::default() };
+        Command::Serve { db, addr, max_connections, verify_sample } => {
+            let options = crate::highscore::ServerOptions { max_connections, verify_sample, ..Default::default() };
             let server = crate::highscore::spawn(&db, &addr, options)?;
             eprintln!("serving {} on http://{}/", db.display(), server.addr());
             server.wait()?;

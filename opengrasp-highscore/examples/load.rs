@@ -1,13 +1,14 @@
 //! A bounded loopback load test of the high-score service: fills a fresh database with
 //! `SUBMISSIONS` distinct tiny-suite submissions, then measures
-//! - uploads over HTTP (`POST /api/submissions` with a token) per second, and
+//! - uploads over HTTP (`POST /api/submissions` with a token) per second, from one client
+//!   and then from `UPLOADERS` concurrent clients (group commit), and
 //! - ranking requests (`GET /api/benchmarks/motion/planar-post/ranking`, first page) per
 //!   second with `CLIENTS` concurrent clients for `SECONDS`, with the latency percentiles.
 //!
 //! ```sh
-//! cargo run --release -p opengrasp-highscore --example load -- [SUBMISSIONS] [CLIENTS] [SECONDS] [UPLOADS]
+//! cargo run --release -p opengrasp-highscore --example load -- [SUBMISSIONS] [CLIENTS] [SECONDS] [UPLOADS] [UPLOADERS]
 //! ```
-//! (defaults 10000 16 10 500). Only 127.0.0.1 is contacted; every loop is bounded.
+//! (defaults 10000 16 10 500 16). Only 127.0.0.1 is contacted; every loop is bounded.
 
 use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpStream};
@@ -51,6 +52,7 @@ fn percentile(sorted: &[f64], p: f64) -> f64 {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let arg = |i: usize, default: usize| std::env::args().nth(i).and_then(|a| a.parse().ok()).unwrap_or(default);
     let (submissions, clients, seconds, uploads) = (arg(1, 10_000), arg(2, 16), arg(3, 10) as u64, arg(4, 500));
+    let uploaders = arg(5, 16).max(1);
     let dir = std::env::temp_dir().join(format!("opengrasp-load-{}", std::process::id()));
     std::fs::create_dir_all(&dir)?;
     let db = dir.join("board.sqlite");
@@ -76,7 +78,44 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         client::upload(&url, &token, &Submitter::new("uploader"), &renamed(&base, submissions + i))?;
     }
     let up = t.elapsed().as_secs_f64();
-    println!("{uploads} uploads over HTTP in {up:.2} s: {:.0} submissions/s", uploads as f64 / up);
+    println!("{uploads} uploads over HTTP, 1 client, in {up:.2} s: {:.0} submissions/s", uploads as f64 / up);
+
+    // The bodies are made before the clock starts: the figure is the server's.
+    let bodies: Vec<String> = (0..uploads).map(|i| renamed(&base, submissions + uploads + i)).collect();
+    let bodies = std::sync::Arc::new(bodies);
+    let t = Instant::now();
+    let workers: Vec<_> = (0..uploaders)
+        .map(|w| {
+            let (bodies, url, token) = (bodies.clone(), url.clone(), token.clone());
+            std::thread::spawn(move || {
+                let mut ids = Vec::new();
+                for body in bodies.iter().skip(w).step_by(uploaders) {
+                    match client::upload(&url, &token, &Submitter::new("uploader"), body) {
+                        Ok(a) if !a.duplicate => ids.push(a.id),
+                        _ => return Err(format!("upload failed in client {w}")),
+                    }
+                }
+                Ok(ids)
+            })
+        })
+        .collect();
+    let mut acknowledged = Vec::new();
+    for w in workers {
+        acknowledged.extend(w.join().map_err(|_| "an uploader panicked")??);
+    }
+    let up = t.elapsed().as_secs_f64();
+    println!(
+        "{} uploads over HTTP, {uploaders} clients, in {up:.2} s: {:.0} submissions/s",
+        acknowledged.len(),
+        acknowledged.len() as f64 / up
+    );
+    let store = Store::open_read_only(&db)?;
+    let lost = acknowledged
+        .iter()
+        .filter(|id| store.submission_json(opengrasp_highscore::SubmissionId(**id)).is_err())
+        .count();
+    assert_eq!(lost, 0, "every acknowledged upload is stored");
+    drop(store);
 
     let path = "/api/benchmarks/motion/planar-post/ranking?limit=100";
     assert_eq!(get(addr, path)?, 200, "the ranking answers");

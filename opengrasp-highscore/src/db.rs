@@ -3,10 +3,26 @@
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex, PoisonError, RwLock};
+use std::sync::{mpsc, Arc, Mutex, PoisonError, RwLock};
 
 use super::error::Result;
-use super::{Ranking, Store};
+use super::{Inserted, Ranking, Store, Submission};
+
+/// An upload waiting for a group commit and where to send its outcome.
+#[derive(Debug)]
+struct Job {
+    submission: Submission,
+    reply: mpsc::SyncSender<Result<Stored>>,
+}
+
+/// Outcome of [`Db::insert_grouped`]: the stored submission and the benchmarks it is on.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Stored {
+    /// The stored submission (the earlier one for a retried upload).
+    pub inserted: Inserted,
+    /// Ids of the benchmarks it has results on.
+    pub benchmarks: Vec<String>,
+}
 
 /// Read connections kept open for reuse (more are opened on demand and closed after use).
 const POOL: usize = 8;
@@ -20,6 +36,8 @@ pub struct Db {
     path: PathBuf,
     writer: Mutex<Store>,
     readers: Mutex<Vec<Store>>,
+    /// Uploads waiting for the next group commit.
+    queue: Mutex<Vec<Job>>,
     cache: RwLock<HashMap<String, (i64, Arc<Ranking>)>>,
 }
 
@@ -34,6 +52,7 @@ impl Db {
             path: path.to_path_buf(),
             writer: Mutex::new(writer),
             readers: Mutex::new(Vec::new()),
+            queue: Mutex::new(Vec::new()),
             cache: RwLock::new(HashMap::new()),
         })
     }
@@ -45,6 +64,29 @@ impl Db {
     pub fn write<T>(&self, f: impl FnOnce(&mut Store) -> Result<T>) -> Result<T> {
         let mut store = self.writer.lock().unwrap_or_else(PoisonError::into_inner);
         f(&mut store)
+    }
+
+    /// Stores a validated submission with group commit: it joins the queue of waiting
+    /// uploads; whichever caller next holds the writer writes every queued submission in one
+    /// transaction (one fsync) and hands each its outcome only after the commit returned, so
+    /// an `Ok` is durable (`synchronous = FULL`). Blocks: call it off the async workers.
+    ///
+    /// # Errors
+    /// As [`Store::insert_batch`] (for the whole group) and [`Store::insert_submission`]
+    /// (for this submission).
+    pub fn insert_grouped(&self, submission: Submission) -> Result<Stored> {
+        let (reply, outcome) = mpsc::sync_channel(1);
+        self.queue.lock().unwrap_or_else(PoisonError::into_inner).push(Job { submission, reply });
+        {
+            let mut store = self.writer.lock().unwrap_or_else(PoisonError::into_inner);
+            // Whatever queued while the previous group was committing (ours included, unless
+            // the previous holder already took it).
+            let jobs = std::mem::take(&mut *self.queue.lock().unwrap_or_else(PoisonError::into_inner));
+            if !jobs.is_empty() {
+                commit_group(&mut store, jobs);
+            }
+        }
+        outcome.recv().unwrap_or_else(|_| Err(crate::server::server_error("", "the group commit was abandoned")))
     }
 
     /// Runs `f` on a read-only connection from the pool.
@@ -86,5 +128,34 @@ impl Db {
             cache.insert(benchmark.to_string(), (generation, ranking.clone()));
             Ok(ranking)
         })
+    }
+}
+
+/// Writes `jobs` in one transaction and answers each (after the commit).
+fn commit_group(store: &mut Store, jobs: Vec<Job>) {
+    let submissions: Vec<&Submission> = jobs.iter().map(|j| &j.submission).collect();
+    match store.insert_batch(&submissions) {
+        Ok(outcomes) => {
+            for (job, outcome) in jobs.iter().zip(outcomes) {
+                let stored = outcome.and_then(|inserted| {
+                    Ok(Stored { inserted, benchmarks: store.submission_benchmarks(inserted.id)? })
+                });
+                let _ = job.reply.send(stored);
+            }
+        }
+        Err(e) => {
+            // Nothing of the group was stored: every upload gets the error (503 if busy).
+            let message = e.to_string();
+            let busy = matches!(e, crate::HighscoreError::Busy(_));
+            for job in &jobs {
+                let err = if busy {
+                    let code = rusqlite::ffi::Error::new(rusqlite::ffi::SQLITE_BUSY);
+                    crate::HighscoreError::Busy(rusqlite::Error::SqliteFailure(code, Some(message.clone())))
+                } else {
+                    crate::server::server_error("", &message)
+                };
+                let _ = job.reply.send(Err(err));
+            }
+        }
     }
 }

@@ -2,6 +2,7 @@
 
 use std::fmt::Write as _;
 
+use super::charts::{self, ChartData};
 use super::{BenchmarkInfo, EntryMetrics, Ranking};
 
 /// Escapes `&`, `<`, `>`, `"` and `'` for HTML text and attribute values.
@@ -20,9 +21,13 @@ pub fn escape(text: &str) -> String {
     out
 }
 
-const STYLE: &str = "body{font-family:sans-serif;margin:2em;max-width:70em}\
-table{border-collapse:collapse}th,td{padding:.3em .7em;border-bottom:1px solid #ccc;text-align:left}\
-td.n{text-align:right}p.rules{color:#444;font-size:.9em}";
+const STYLE: &str = "body{font-family:sans-serif;margin:1.5em;max-width:80em}\
+table{border-collapse:collapse;width:100%;font-size:.9em}\
+th,td{padding:.3em .5em;border-bottom:1px solid #ccc;text-align:left;vertical-align:top;overflow-wrap:anywhere}\
+td.n{text-align:right}tr.paper{background:#f3f3e6;font-style:italic}p.rules{color:#444;font-size:.9em}\
+dl.kv{margin:0;display:grid;grid-template-columns:auto 1fr;gap:0 .6em;font-size:.9em}\
+dl.kv dt{color:#555}dl.kv dd{margin:0;font-family:monospace;overflow-wrap:anywhere}\
+svg{max-width:60em;display:block;margin:.5em 0}code{overflow-wrap:anywhere}";
 
 fn page(title: &str, body: &str) -> String {
     format!(
@@ -55,8 +60,10 @@ pub fn index_page(benchmarks: &[BenchmarkInfo]) -> String {
     page("OpenGRASP high-score", &body)
 }
 
-/// The high-score page of one benchmark.
-pub fn ranking_page(ranking: &Ranking) -> String {
+/// The high-score page of one benchmark: the paper's reference rows, the ranked entries
+/// (links to their submissions and uploaded files, parameters as key/value lists) and inline
+/// SVG charts of the first [`MAX_CHARTED`](crate::charts::MAX_CHARTED) entries.
+pub fn ranking_page(ranking: &Ranking, data: &ChartData) -> String {
     let b = &ranking.benchmark;
     let mut body = format!(
         "<p><a href=\"/\">all benchmarks</a></p>\n<h1>{}</h1>\n<p>{} (name in results files: <code>{}</code>)</p>\n\
@@ -66,20 +73,41 @@ pub fn ranking_page(ranking: &Ranking) -> String {
         escape(&b.target),
         escape(&ranking.rules)
     );
-    if ranking.entries.is_empty() {
-        body.push_str("<p>No submissions yet.</p>\n");
-        return page(&format!("{} high-score", b.id), &body);
-    }
-    body.push_str("<table>\n<tr><th>#</th><th>planner</th><th>submitter</th><th>submission</th>");
-    match ranking.entries[0].metrics {
-        EntryMetrics::Grasp { .. } => {
-            body.push_str("<th>FC %</th><th>mean epsilon</th><th>palm-contact candidates</th><th>objects</th>")
+    let paper = charts::paper_rows(b);
+    let grasp = b.kind == crate::BenchmarkKind::Grasp;
+    let _ = write!(
+        body,
+        "<p>{} entries in all; this page shows {} to {}.</p>\n<table>\n<tr><th>#</th><th>planner</th><th>submitter</th>\
+         <th>submission</th>{}<th>suite</th><th>seed</th><th>submitted</th><th>parameters</th></tr>\n",
+        ranking.total,
+        (ranking.offset + 1).min(ranking.total),
+        ranking.offset + ranking.entries.len(),
+        if grasp {
+            "<th>FC %</th><th>mean ε</th><th>palm-contact candidates</th><th>objects</th>"
+        } else {
+            "<th>success %</th><th>median planning time (s)</th><th>valid post-processed %</th><th>runs</th>"
         }
-        EntryMetrics::Motion { .. } => body.push_str(
-            "<th>success %</th><th>median planning time (s)</th><th>valid post-processed %</th><th>runs</th>",
-        ),
+    );
+    for p in &paper {
+        let figures = if grasp {
+            format!(
+                "<td class=\"n\">{:.1}</td><td class=\"n\">-</td><td class=\"n\">-</td><td class=\"n\">{}</td>",
+                p.figure,
+                p.per_object.len()
+            )
+        } else {
+            format!(
+                "<td class=\"n\">-</td><td class=\"n\">{:.2} (mean)</td><td class=\"n\">{:.1}</td><td class=\"n\">-</td>",
+                p.figure,
+                p.valid_processed.unwrap_or(f64::NAN)
+            )
+        };
+        let _ = writeln!(
+            body,
+            "<tr class=\"paper\"><td>ref</td><td colspan=\"3\">{}</td>{figures}<td colspan=\"4\">Ulbrich et al. 2011 (published figures)</td></tr>",
+            escape(&p.label)
+        );
     }
-    body.push_str("<th>seed</th><th>version</th><th>suite</th><th>submitted</th><th>parameters</th></tr>\n");
     for e in &ranking.entries {
         let who = match &e.team {
             Some(t) => format!("{} ({})", escape(&e.submitter), escape(t)),
@@ -87,10 +115,11 @@ pub fn ranking_page(ranking: &Ranking) -> String {
         };
         let _ = write!(
             body,
-            "<tr><td class=\"n\">{}</td><td>{}</td><td>{who}</td><td class=\"n\">{}</td>",
+            "<tr><td class=\"n\">{}</td><td>{}</td><td>{who}</td><td class=\"n\"><a href=\"/submission/{id}\">{id}</a> \
+             (<a href=\"/api/submissions/{id}\">file</a>)</td>",
             e.rank,
             escape(&e.planner),
-            e.submission.0
+            id = e.submission.0
         );
         let figures = match &e.metrics {
             EntryMetrics::Grasp { fc_percent, mean_epsilon, palm_contact, objects, .. } => [
@@ -111,15 +140,27 @@ pub fn ranking_page(ranking: &Ranking) -> String {
         }
         let _ = writeln!(
             body,
-            "<td class=\"n\">{}</td><td>{}</td><td>{}</td><td>{}</td><td><code>{}</code></td></tr>",
-            e.seed.map_or_else(|| "-".to_string(), |s| s.to_string()),
-            escape(&e.version),
+            "<td>{}</td><td class=\"n\">{}</td><td>{}</td><td>{}</td></tr>",
             escape(&e.suite_size),
-            escape(&e.submitted_at),
-            escape(e.parameters.as_deref().unwrap_or("-"))
+            e.seed.map_or_else(|| "-".to_string(), |s| s.to_string()),
+            escape(e.submitted_at.get(..16).unwrap_or(&e.submitted_at)).replace('T', " "),
+            e.parameters.as_deref().map_or_else(|| "-".to_string(), parameters_list)
         );
     }
     body.push_str("</table>\n");
+    if ranking.entries.is_empty() {
+        body.push_str("<p>No submissions on this page.</p>\n");
+    } else if grasp {
+        body.push_str("<h2>FC % per object</h2>\n");
+        body.push_str(&charts::per_object_svg(&ranking.entries, data, &paper, false));
+        body.push_str("\n<h2>Mean ε per object</h2>\n");
+        body.push_str(&charts::per_object_svg(&ranking.entries, data, &paper, true));
+        body.push('\n');
+    } else {
+        body.push_str("<h2>Planning times</h2>\n<p>Each dot is a solved run, the bar its entry's median.</p>\n");
+        body.push_str(&charts::planning_times_svg(&ranking.entries, data));
+        body.push('\n');
+    }
     page(&format!("{} high-score", b.id), &body)
 }
 

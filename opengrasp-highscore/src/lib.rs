@@ -47,10 +47,12 @@
 //! # }
 //! ```
 
+pub mod charts;
 pub mod client;
 mod db;
 mod error;
 pub mod html;
+mod insert;
 pub mod plausible;
 mod rank;
 pub mod read;
@@ -60,13 +62,14 @@ mod submission;
 mod summary;
 mod text;
 mod tokens;
+pub mod verify;
 
 use std::cmp::Ordering;
 use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-pub use db::Db;
+pub use db::{Db, Stored};
 pub use error::{HighscoreError, Result};
 pub use server::{serve, spawn, ServerHandle, ServerOptions};
 pub use store::{Counts, Inserted, Store, SCHEMA_VERSION};

@@ -17,9 +17,13 @@
 //! malformed JSON or wrong shape, `401` missing or invalid token, `409` results already
 //! submitted by someone else, `413` body above the limit (answered from `Content-Length`
 //! before reading), `408` body not received in time, `422` invalid values or unknown benchmark
-//! in an upload, `404` unknown benchmark or submission, `503` (with `Retry-After`) when the
+//! in an upload (or, with [`ServerOptions::verify_sample`], replayed runs that differ from it),
+//! `404` unknown benchmark or submission, `503` (with `Retry-After`) when the
 //! database is locked by another writer, `500` other database failures. A rejected upload
-//! writes nothing (one transaction per submission).
+//! writes nothing (a savepoint per submission). Uploads are stored with group commit
+//! ([`Db::insert_grouped`](super::Db::insert_grouped)): those that arrive while a transaction
+//! commits are written together in the next one, and each is answered only once its commit
+//! is durable.
 //!
 //! # Hardening
 //!
@@ -64,6 +68,10 @@ pub struct ServerOptions {
     /// Whether uploads need an API token (`Authorization: Bearer`, see
     /// [`Store::issue_token`](super::Store::issue_token)). Default: `true`.
     pub require_token: bool,
+    /// Motion runs of reference planners replayed from their seeds per upload (see
+    /// [`verify_sample`](crate::verify::verify_sample)); an upload whose replayed runs
+    /// differ is refused with 422. Default: 0 (off).
+    pub verify_sample: usize,
 }
 
 impl Default for ServerOptions {
@@ -75,6 +83,7 @@ impl Default for ServerOptions {
             body_read_timeout: Duration::from_secs(30),
             connection_lifetime: Duration::from_secs(120),
             require_token: true,
+            verify_sample: 0,
         }
     }
 }
