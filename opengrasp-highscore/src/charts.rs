@@ -116,7 +116,7 @@ fn svg_open(out: &mut String, height: f64, title: &str) {
     let _ = write!(
         out,
         "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 {WIDTH} {height}\" width=\"100%\" \
-         role=\"img\" aria-label=\"{t}\" font-family=\"sans-serif\" font-size=\"12\"><title>{t}</title>",
+         role=\"img\" aria-label=\"{t}\" font-family=\"sans-serif\" font-size=\"14\"><title>{t}</title>",
         t = escape(title)
     );
 }
@@ -153,8 +153,8 @@ fn tick(v: f64) -> String {
 
 fn label(e: &RankedEntry) -> String {
     let mut name = format!("#{} {} (submission {})", e.rank, e.planner, e.submission.0);
-    if name.chars().count() > 34 {
-        name = name.chars().take(33).collect::<String>() + "…";
+    if name.chars().count() > 30 {
+        name = name.chars().take(29).collect::<String>() + "…";
     }
     escape(&name)
 }
