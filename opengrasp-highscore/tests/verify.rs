@@ -83,3 +83,35 @@ fn the_server_refuses_an_upload_whose_replayed_runs_differ() {
     server.shutdown().unwrap();
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn grasp_cells_are_replayed_and_changed_counts_caught() {
+    let genuine = Suite::new().with_reference_grasp(SuiteSize::Tiny).labelled("tiny").jobs(1).run().unwrap();
+    let cells = genuine.grasp.as_ref().unwrap().cells.len();
+    assert_eq!(cells, 2, "the tiny reference suite: 2 planners x 1 hand x 1 object");
+    let all = verify_sample(&genuine, cells, 11).unwrap();
+    assert_eq!(all.checked, cells, "every cell replayed");
+    assert_eq!(verify_sample(&genuine, 1, 11).unwrap().checked, 1, "a sample of one cell");
+    assert!(all.mismatches.is_empty(), "{:?}", all.mismatches);
+
+    // Better grasp quality in every cell with a force-closure grasp (mean and median ε 20 %
+    // higher, still within the analytic bound): the replay gives the true values.
+    let mut tampered = genuine.clone();
+    let mut changed = 0;
+    for c in &mut tampered.grasp.as_mut().unwrap().cells {
+        let c = &mut c.cell;
+        if c.force_closure_palm > 0 && c.mean_epsilon > 0.0 {
+            c.mean_epsilon *= 1.2;
+            c.median_epsilon *= 1.2;
+            changed += 1;
+        }
+    }
+    assert!(changed > 0, "some tiny cell has a force-closure grasp");
+    let text = serde_json::to_string(&tampered).unwrap();
+    let plausible = Submission::from_json(&text, Submitter::new("eve"));
+    assert!(plausible.is_ok(), "the tampered file passes plausibility: {plausible:?}");
+    let caught = verify_sample(&tampered, cells, 11).unwrap();
+    assert_eq!(caught.checked, cells);
+    assert_eq!(caught.mismatches.len(), changed, "{:?}", caught.mismatches);
+    assert!(caught.mismatches[0].contains("mean epsilon"), "{:?}", caught.mismatches);
+}
