@@ -223,7 +223,7 @@ impl PySuite {
         py: Python<'py>,
         path: PathBuf,
     ) -> PyResult<PyRefMut<'py, Self>> {
-        let sets = py.detach(|| guard(|| Ok(opengrasp_bench::problem_sets::load_problem_sets(&path)?)))?;
+        let sets = crate::world::load_sets(py, &path)?;
         let seed = slf.seed;
         slf.runs = sets.iter().map(|s| s.len()).max().unwrap_or(0);
         slf.problem_set_seed = Some(seed);

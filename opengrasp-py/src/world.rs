@@ -1,7 +1,7 @@
 //! The standard world's geometry and motion problem sets from files: `opengrasp.kitchen()`,
 //! `opengrasp.load_problem_sets(path)` and `opengrasp.ProblemSet`.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use opengrasp_assets::export::scene_meshes;
@@ -55,8 +55,13 @@ pub fn kitchen(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
 /// `InvalidInputError` with the loader's message.
 #[pyfunction]
 pub fn load_problem_sets(py: Python<'_>, path: PathBuf) -> PyResult<Vec<PyProblemSet>> {
-    let sets = py.detach(|| guard(|| Ok(opengrasp_bench::problem_sets::load_problem_sets(&path)?)))?;
-    Ok(sets.into_iter().map(|set| PyProblemSet { set: Arc::new(set) }).collect())
+    Ok(load_sets(py, &path)?.into_iter().map(|set| PyProblemSet { set: Arc::new(set) }).collect())
+}
+
+/// The problem sets at `path`, loaded with the GIL released (robot files and meshes can take
+/// a while); panics become `OpenGraspError`.
+pub(crate) fn load_sets(py: Python<'_>, path: &Path) -> Result<Vec<LoadedProblemSet>> {
+    py.detach(|| guard(|| Ok(opengrasp_bench::problem_sets::load_problem_sets(path)?)))
 }
 
 /// A loaded motion problem set: a robot, a planning group and problems (obstacles, start,
