@@ -24,8 +24,9 @@ use std::sync::Mutex;
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use crate::bench::problem_sets::load_problem_sets;
+use crate::bench::problem_sets::{load_problem_sets, ProblemSetChecker};
 use crate::bench::stock;
+use crate::motion::validity::cover::GreedyCoverOptions;
 use crate::report::{self, Format};
 use crate::results::{Category, Error, Result, ResultsFile};
 use crate::suite::{Progress, Suite, SuiteSize};
@@ -118,6 +119,16 @@ impl From<ProtocolArg> for crate::motion::protocol::Protocol {
     }
 }
 
+/// Planning checker of problem sets on the command line (`run --checker`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum CheckerArg {
+    /// Exact meshes and primitives (default).
+    #[default]
+    Exact,
+    /// The robot's guaranteed sphere cover.
+    Spheres,
+}
+
 /// Image format of `report --plots` on the command line.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
 pub enum PlotFormatArg {
@@ -192,6 +203,12 @@ pub struct RunArgs {
     /// `r` plans problem `r`; `--runs` defaults to the largest set's size.
     #[arg(long = "problems", value_name = "PATH")]
     pub problems: Vec<PathBuf>,
+    /// With `--problems`: what the planners check states with. `exact` (default): the robot's
+    /// meshes and the obstacles' shapes; `spheres`: the robot's guaranteed greedy sphere cover
+    /// (every mesh point inside a sphere) and the SRDF's self-collision pairs, scenes named
+    /// `"<set> (spheres)"`. Paths are graded by the exact validators either way.
+    #[arg(long, value_enum, default_value = "exact")]
+    pub checker: CheckerArg,
     /// Motion runs per planner per scene (default: the size's).
     #[arg(long)]
     pub runs: Option<usize>,
@@ -370,6 +387,10 @@ pub fn build_suite(args: &RunArgs) -> Result<Suite> {
             Which::All => Suite::standard(size),
         }
     } else {
+        let checker = match args.checker {
+            CheckerArg::Exact => ProblemSetChecker::Exact,
+            CheckerArg::Spheres => ProblemSetChecker::Spheres(GreedyCoverOptions::default()),
+        };
         let mut sets = Vec::new();
         for path in &args.problems {
             sets.extend(load_problem_sets(path)?);
@@ -381,8 +402,12 @@ pub fn build_suite(args: &RunArgs) -> Result<Suite> {
                     reason: "motion problem sets need `run motion` or `run all`".into(),
                 })
             }
-            Which::Motion => Suite::new().labelled(size.name()).with_problem_sets(sets, args.seed),
-            Which::All => Suite::new().with_reference_grasp(size).with_problem_sets(sets, args.seed),
+            Which::Motion => {
+                Suite::new().labelled(size.name()).with_problem_sets_checked_by(sets, args.seed, checker)?
+            }
+            Which::All => {
+                Suite::new().with_reference_grasp(size).with_problem_sets_checked_by(sets, args.seed, checker)?
+            }
         }
     };
     suite = suite.seed(args.seed);

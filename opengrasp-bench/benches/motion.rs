@@ -2,7 +2,9 @@
 //! ARMAR-III-like humanoid in the kitchen (hip yaw + right arm) and on the 7-DoF stand-in, the
 //! post-processing of planned paths (repair + shortcut, as the harness runs it), plus the cost
 //! of one validity check; and RRT-Connect on the MotionBenchMaker Panda problems vendored in
-//! `opengrasp-motion/tests/data/mbm` (`mbm/<set>/...`, the Panda's meshes, exact checker).
+//! `opengrasp-motion/tests/data/mbm` (`mbm/<set>/...`: on the Panda's meshes with the exact
+//! checker, and on its guaranteed greedy sphere cover: `rrt_connect_spheres`,
+//! `state_check_spheres`, `state_check_spheres_batch64`).
 //!
 //! ```sh
 //! cargo bench -p opengrasp-bench --bench motion -- --warm-up-time 1 --measurement-time 3
@@ -11,6 +13,7 @@
 // `criterion_group!` generates an undocumented public function.
 #![allow(missing_docs)]
 
+use std::sync::Arc;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
@@ -18,8 +21,13 @@ use opengrasp_bench::problem_sets::load_problem_sets;
 use opengrasp_bench::scenes::{armar_standard_scene, standard_scene, CheckerKind};
 use opengrasp_motion::benchmark::BenchmarkScene;
 use opengrasp_motion::planners::{NeighborStructure, RrtConnect};
+use opengrasp_motion::problem_set::PlanningModel;
 use opengrasp_motion::smoothing::{repair, shortcut, ShortcutOptions};
+use opengrasp_motion::validity::cover::GreedyCoverOptions;
+use opengrasp_motion::validity::MeshCover;
 use opengrasp_motion::MotionPlanner;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
 
 fn bench_scene(c: &mut Criterion, id: &str, scene: BenchmarkScene) {
     let instance = (scene.generate)(0).expect("scene instance");
@@ -64,24 +72,50 @@ fn bench_scene(c: &mut Criterion, id: &str, scene: BenchmarkScene) {
 }
 
 /// RRT-Connect planning time per MBM set, cycling over the set's problems (failures within
-/// the time limit are timed too), and one state check at the first problem's start.
+/// the time limit are timed too), and one state check at the first problem's start: on the
+/// meshes (exact checker), and on the Panda's greedy sphere cover
+/// ([`MeshCover::Greedy`], default options; graded by the meshes in the runner), one state
+/// at a time and in batches of 64 random states.
 fn mbm_panda(c: &mut Criterion) {
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../opengrasp-motion/tests/data/mbm/panda/problems");
-    for set in load_problem_sets(dir).expect("vendored MBM sets") {
-        let instances: Vec<_> = (0..set.len()).map(|i| set.instance(i).expect("problem instance")).collect();
+    let sets = load_problem_sets(dir).expect("vendored MBM sets");
+    let spheres = Arc::new(sets[0].sphere_model(MeshCover::Greedy(GreedyCoverOptions::default())).expect("cover"));
+    let model = PlanningModel::Spheres(spheres);
+    for set in &sets {
+        let instances: Vec<_> =
+            (0..set.len()).map(|i| set.instance_with(i, &model).expect("problem instance")).collect();
         let mut planner = RrtConnect::default();
-        let mut k = 0usize;
-        c.bench_function(&format!("mbm/{}/rrt_connect_plan", set.name()), |b| {
-            b.iter(|| {
-                k += 1;
-                let instance = &instances[k % instances.len()];
-                let problem = instance.problem(&*instance.checker, Duration::from_secs(10), k as u64, 0.02);
-                planner.plan(&problem).is_ok()
-            })
-        });
+        for (row, on_spheres) in [("rrt_connect_plan", false), ("rrt_connect_spheres", true)] {
+            let mut k = 0usize;
+            c.bench_function(&format!("mbm/{}/{row}", set.name()), |b| {
+                b.iter(|| {
+                    k += 1;
+                    let instance = &instances[k % instances.len()];
+                    let checker = if on_spheres { instance.planner_checker() } else { &*instance.checker };
+                    let problem = instance.problem(checker, Duration::from_secs(10), k as u64, 0.02);
+                    planner.plan(&problem).is_ok()
+                })
+            });
+        }
         let first = &instances[0];
         c.bench_function(&format!("mbm/{}/validity_check", set.name()), |b| {
             b.iter(|| first.checker.is_valid(std::hint::black_box(&first.start)))
+        });
+        let spheres = first.planner_checker();
+        c.bench_function(&format!("mbm/{}/state_check_spheres", set.name()), |b| {
+            b.iter(|| spheres.is_valid(std::hint::black_box(&first.start)))
+        });
+        // 64 random states (seeded) within the joint limits, checked in one call.
+        let limits = first.group.limits(&first.robot);
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        let states: Vec<f64> =
+            (0..64).flat_map(|_| limits.iter().map(|l| rng.random_range(l.0..=l.1)).collect::<Vec<_>>()).collect();
+        let mut out = vec![false; 64];
+        c.bench_function(&format!("mbm/{}/state_check_spheres_batch64", set.name()), |b| {
+            b.iter(|| {
+                spheres.are_valid(std::hint::black_box(&states), &mut out);
+                out.iter().filter(|&&v| v).count()
+            })
         });
     }
 }

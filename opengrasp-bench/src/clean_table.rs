@@ -207,6 +207,7 @@ pub fn clean_the_table(planner: &mut dyn MotionPlanner, options: &CleanTheTableO
             start: group.extract(q),
             goal,
             checker: Box::new(checker),
+            planning_checker: None,
         };
         let seed = options.seed.wrapping_add(k as u64);
         let setup = timed_setup(planner, &instance, seed, &options.benchmark).unwrap_or(0.0);

@@ -24,7 +24,9 @@ use std::sync::Arc;
 
 use opengrasp_motion::benchmark::BenchmarkScene;
 use opengrasp_motion::planners::{IkRrt, Prm, PrmOptions, RrtConnect};
-use opengrasp_motion::problem_set::{self, LoadedProblemSet};
+use opengrasp_motion::problem_set::{self, LoadedProblemSet, PlanningModel};
+use opengrasp_motion::validity::cover::GreedyCoverOptions;
+use opengrasp_motion::validity::MeshCover;
 use opengrasp_motion::Goal;
 
 use crate::suite::Suite;
@@ -48,13 +50,35 @@ pub fn load_problem_sets(path: impl AsRef<Path>) -> Result<Vec<LoadedProblemSet>
 /// The benchmark scene of a loaded set: run `r` (seed `base_seed + r`) is problem
 /// `r mod len`.
 pub fn problem_set_scene(set: Arc<LoadedProblemSet>, base_seed: u64) -> BenchmarkScene {
+    problem_set_scene_with(set, base_seed, PlanningModel::Exact)
+}
+
+/// What the planners of problem-set scenes check states with; the validators always use the
+/// exact checker (meshes and primitives).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum ProblemSetChecker {
+    /// The exact checker (default).
+    #[default]
+    Exact,
+    /// The robot's guaranteed greedy sphere cover ([`MeshCover::Greedy`]) with the SRDF's
+    /// self-collision pairs; scenes are named `"<set> (spheres)"`.
+    Spheres(GreedyCoverOptions),
+}
+
+/// Like [`problem_set_scene`], planned on `model` (a sphere-model scene is named
+/// `"<set> (spheres)"`).
+pub fn problem_set_scene_with(set: Arc<LoadedProblemSet>, base_seed: u64, model: PlanningModel) -> BenchmarkScene {
+    let name = match model {
+        PlanningModel::Exact => set.name().to_string(),
+        PlanningModel::Spheres(_) => format!("{} (spheres)", set.name()),
+    };
     BenchmarkScene {
-        name: set.name().to_string(),
+        name,
         shared_environment: false,
         generate: Box::new(move |seed| {
             let run = seed.wrapping_sub(base_seed);
             let index = (run % set.len().max(1) as u64) as usize;
-            set.instance(index)
+            set.instance_with(index, &model)
         }),
     }
 }
@@ -68,10 +92,45 @@ impl Suite {
     /// suite's seed) with the reference planners — RRT-Connect, PRM
     /// ([`PROBLEM_SET_PRM_NODES`] nodes) and IK-RRT (on sets with pose goals only) — and sets
     /// the runs to the largest set's size, so every problem is planned once per planner.
-    pub fn with_problem_sets(mut self, sets: Vec<LoadedProblemSet>, base_seed: u64) -> Self {
-        let runs = sets.iter().map(LoadedProblemSet::len).max().unwrap_or(0);
-        let names: Vec<String> = sets.iter().map(|s| s.name().to_string()).collect();
-        let pose_sets: Vec<String> = sets.iter().filter(|s| has_pose_goals(s)).map(|s| s.name().to_string()).collect();
+    pub fn with_problem_sets(self, sets: Vec<LoadedProblemSet>, base_seed: u64) -> Self {
+        let scenes = sets.into_iter().map(|set| (set, PlanningModel::Exact)).collect();
+        self.with_problem_set_scenes(scenes, base_seed)
+    }
+
+    /// Like [`Suite::with_problem_sets`], the planners checking states as `checker` says
+    /// (graded by the exact checker either way).
+    ///
+    /// # Errors
+    /// The sphere cover's errors ([`LoadedProblemSet::sphere_model`]) as
+    /// [`crate::Error::Motion`].
+    pub fn with_problem_sets_checked_by(
+        self,
+        sets: Vec<LoadedProblemSet>,
+        base_seed: u64,
+        checker: ProblemSetChecker,
+    ) -> Result<Self> {
+        let scenes = sets
+            .into_iter()
+            .map(|set| {
+                let model = match checker {
+                    ProblemSetChecker::Exact => PlanningModel::Exact,
+                    ProblemSetChecker::Spheres(o) => {
+                        PlanningModel::Spheres(Arc::new(set.sphere_model(MeshCover::Greedy(o))?))
+                    }
+                };
+                Ok((set, model))
+            })
+            .collect::<Result<_>>()?;
+        Ok(self.with_problem_set_scenes(scenes, base_seed))
+    }
+
+    fn with_problem_set_scenes(mut self, sets: Vec<(LoadedProblemSet, PlanningModel)>, base_seed: u64) -> Self {
+        let runs = sets.iter().map(|s| s.0.len()).max().unwrap_or(0);
+        let pose: Vec<bool> = sets.iter().map(|s| has_pose_goals(&s.0)).collect();
+        let scenes: Vec<BenchmarkScene> =
+            sets.into_iter().map(|(set, model)| problem_set_scene_with(Arc::new(set), base_seed, model)).collect();
+        let names: Vec<String> = scenes.iter().map(|s| s.name.clone()).collect();
+        let pose_sets: Vec<String> = names.iter().zip(&pose).filter(|(_, &p)| p).map(|(n, _)| n.clone()).collect();
         let prm = PrmOptions { nodes: PROBLEM_SET_PRM_NODES, ..PrmOptions::default() };
         self = self
             .motion_planner_on(names.clone(), format!("{:?}", RrtConnect::default().options), || {
@@ -82,8 +141,8 @@ impl Suite {
             self = self
                 .motion_planner_on(pose_sets, format!("{:?}", IkRrt::default().options), || Box::new(IkRrt::default()));
         }
-        for set in sets {
-            self = self.motion_scene(problem_set_scene(Arc::new(set), base_seed));
+        for scene in scenes {
+            self = self.motion_scene(scene);
         }
         self.runs(runs)
     }

@@ -149,6 +149,7 @@ pub fn armar_standard_scene() -> BenchmarkScene {
                 start: ARMAR_START.to_vec(),
                 goal: Goal::Configuration(goal),
                 checker: Box::new(checker),
+                planning_checker: None,
             })
         }),
     }
@@ -220,6 +221,7 @@ fn armar_ik_instance(x: f64, y: f64, yaw: f64) -> Result<SceneInstance> {
         start: ARMAR_START.to_vec(),
         goal,
         checker: Box::new(checker),
+        planning_checker: None,
     })
 }
 
@@ -278,7 +280,16 @@ fn instance(kind: CheckerKind, boxes: Vec<ObstacleBox>, start: Vec<f64>, goal: G
     let (robot, checker) = arm_checker(kind, boxes)?;
     let group: JointGroup = robot.group("arm")?.clone();
     let tip = robot.link_id("tool")?;
-    Ok(SceneInstance { q_full: robot.home_configuration(), robot, group, tip: Some(tip), start, goal, checker })
+    Ok(SceneInstance {
+        q_full: robot.home_configuration(),
+        robot,
+        group,
+        tip: Some(tip),
+        start,
+        goal,
+        checker,
+        planning_checker: None,
+    })
 }
 
 /// Scene 1 stand-in: fixed start and goal of the 7-DoF arm in the cupboard.

@@ -39,11 +39,21 @@ pub struct SceneInstance {
     pub start: Vec<f64>,
     /// The goal.
     pub goal: Goal,
-    /// The validity checker.
+    /// The validity checker: the judge of every path (validators, metrics, post-processing)
+    /// and, unless `planning_checker` is set, the planner's checker too.
     pub checker: Box<dyn StateValidityChecker>,
+    /// A different checker for the planner (setup and planning), e.g. a conservative sphere
+    /// model of the robot; `None` (the usual case): the planner uses `checker`. Planned paths
+    /// are still graded by `checker`.
+    pub planning_checker: Option<Box<dyn StateValidityChecker>>,
 }
 
 impl SceneInstance {
+    /// The checker the planner uses: `planning_checker` if set, else `checker`.
+    pub fn planner_checker(&self) -> &dyn StateValidityChecker {
+        self.planning_checker.as_deref().unwrap_or(&*self.checker)
+    }
+
     /// The planning query of this instance, validated by `checker` (the instance's own
     /// `&*self.checker`, or a wrapper around it such as a counting checker).
     pub fn problem<'a>(
@@ -460,7 +470,7 @@ pub fn run_once(
     setup_time: f64,
     options: &BenchmarkOptions,
 ) -> RunRecord {
-    let counter = CountingChecker::new(&*instance.checker);
+    let counter = CountingChecker::new(instance.planner_checker());
     let problem = instance.problem(&counter, options.time_limit, seed, options.validation.step);
     let mut record = RunRecord::unfinished(planner.name(), scene, run, seed, RunStatus::Error, setup_time);
     let t0 = Instant::now();
@@ -490,7 +500,8 @@ pub fn run_once(
     }
     record.status = RunStatus::Solved;
     record.planned = Some(grade(instance, &path, options));
-    counter.reset();
+    // Post-processing certifies its shortcuts with the judge's checker.
+    let counter = CountingChecker::new(&*instance.checker);
     let shortcut_options = ShortcutOptions {
         seed,
         step: options.validation.strict_step,
@@ -590,7 +601,7 @@ pub fn timed_setup(
         robot: &instance.robot,
         group: &instance.group,
         q_full: &instance.q_full,
-        checker: &*instance.checker,
+        checker: instance.planner_checker(),
         seed,
         step: options.validation.step,
     };

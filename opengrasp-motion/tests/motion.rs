@@ -423,6 +423,7 @@ fn planar_scene() -> BenchmarkScene {
                 start: START.to_vec(),
                 goal: Goal::Configuration(GOAL.to_vec()),
                 checker: Box::new(world),
+                planning_checker: None,
             })
         }),
     }
@@ -476,6 +477,7 @@ fn benchmark_records_invalid_input_and_timeouts() {
         start: vec![0.0, 0.0], // in collision with the post
         goal: Goal::Configuration(GOAL.to_vec()),
         checker: Box::new(world),
+        planning_checker: None,
     };
     let options = BenchmarkOptions::default();
     let r = run_once(&mut RrtConnect::default(), &instance, "bad", 0, 0, 0.0, &options);

@@ -549,6 +549,7 @@ pub fn planar_scene() -> BenchmarkScene {
                 start: vec![1.2, 0.3],
                 goal: Goal::Configuration(vec![-1.2, 0.3]),
                 checker: Box::new(world),
+                planning_checker: None,
             })
         }),
     }

@@ -4,16 +4,31 @@ use std::sync::Arc;
 
 use nalgebra::Isometry3;
 use opengrasp_core::collision::CollisionWorld;
-use opengrasp_core::model::{samples, JointGroup, LinkId, Robot};
+use opengrasp_core::model::{samples, Geometry, JointGroup, LinkId, Robot};
 use opengrasp_core::scene::{RobotId, Scene, StaticBody};
 use opengrasp_core::srdf::Srdf;
 use opengrasp_core::urdf::{self, LoadOptions, Visuals};
 
 use super::{Configuration, GoalSpec, PoseSpec, ProblemSet};
 use crate::benchmark::SceneInstance;
-use crate::error::Result;
+use crate::error::{MotionError, Result};
 use crate::problem::{Goal, PoseGoal};
-use crate::validity::CollisionChecker;
+use crate::validity::{
+    CollisionChecker, MeshCover, ObstaclePrimitive, ObstacleShape, SelfCollisionPairs, SphereWorld,
+    StateValidityChecker,
+};
+
+/// What the planner of a problem-set instance checks states with. The benchmark's
+/// validators always use the exact checker.
+#[derive(Clone, Debug, Default)]
+pub enum PlanningModel {
+    /// The exact checker (default).
+    #[default]
+    Exact,
+    /// A sphere model of the robot ([`LoadedProblemSet::sphere_model`]), placed in each
+    /// problem by [`SphereWorld::for_problem`]. Problems with mesh obstacles are refused.
+    Spheres(Arc<SphereWorld>),
+}
 
 /// One problem, checked against the robot.
 #[derive(Clone, Debug)]
@@ -259,6 +274,78 @@ impl LoadedProblemSet {
         Ok((scene, id))
     }
 
+    /// The set's robot as a sphere model for planning: its collision shapes covered as
+    /// `cover` says (meshes with a guaranteed cover such as [`MeshCover::Greedy`]), at the
+    /// set's base pose, self-collision checked exactly on the pairs the robot's SRDF does not
+    /// disable ([`SelfCollisionPairs::Robot`]), no obstacles (they come per problem).
+    ///
+    /// # Errors
+    /// As [`SphereWorld::with_mesh_cover`].
+    pub fn sphere_model(&self, cover: MeshCover) -> Result<SphereWorld> {
+        let q_full = self.robot.home_configuration();
+        let world = SphereWorld::with_mesh_cover(
+            self.robot.clone(),
+            self.group.clone(),
+            q_full,
+            self.base_pose,
+            Vec::new(),
+            cover,
+        )?;
+        Ok(world.with_self_collision(SelfCollisionPairs::Robot))
+    }
+
+    /// Problem `i` in the sphere model `model` (from [`LoadedProblemSet::sphere_model`]):
+    /// its obstacles as closed-form solids, its joints outside the group and its allowed
+    /// link pairs.
+    ///
+    /// # Errors
+    /// [`MotionError::InvalidParameter`] for `i` out of range or a mesh obstacle (the sphere
+    /// model takes boxes, spheres, cylinders and capsules).
+    pub fn sphere_world(&self, i: usize, model: &SphereWorld) -> Result<SphereWorld> {
+        let p = self.problem(i)?;
+        let mut obstacles = Vec::new();
+        for b in &p.bodies {
+            for shape in &b.shapes {
+                let solid = match &shape.geometry {
+                    Geometry::Box { half_extents } => ObstacleShape::Box { half_extents: *half_extents },
+                    Geometry::Sphere { radius } => ObstacleShape::Sphere { radius: *radius },
+                    Geometry::Cylinder { radius, length } => {
+                        ObstacleShape::Cylinder { radius: *radius, half_length: length * 0.5 }
+                    }
+                    Geometry::Capsule { radius, length } => {
+                        ObstacleShape::Capsule { radius: *radius, half_length: length * 0.5 }
+                    }
+                    Geometry::Mesh(_) => {
+                        return Err(MotionError::InvalidParameter {
+                            name: "obstacle",
+                            reason: format!(
+                                "`{}` of problem `{}` is a mesh; the sphere model takes boxes, spheres, \
+                                 cylinders and capsules",
+                                b.name, p.name
+                            ),
+                        })
+                    }
+                };
+                obstacles.push(ObstaclePrimitive::new(b.name.clone(), b.pose * shape.origin, solid));
+            }
+        }
+        model.for_problem(p.q_full.clone(), obstacles, &p.allowed)
+    }
+
+    /// Problem `i` as a scene instance whose planner checks states with `model` (graded by
+    /// the exact checker either way, see [`LoadedProblemSet::instance`]).
+    ///
+    /// # Errors
+    /// As [`LoadedProblemSet::instance`] and [`LoadedProblemSet::sphere_world`].
+    pub fn instance_with(&self, i: usize, model: &PlanningModel) -> Result<SceneInstance> {
+        let mut instance = self.instance(i)?;
+        if let PlanningModel::Spheres(world) = model {
+            let planning: Box<dyn StateValidityChecker> = Box::new(self.sphere_world(i, world)?);
+            instance.planning_checker = Some(planning);
+        }
+        Ok(instance)
+    }
+
     /// Problem `i` as a scene instance: the robot at the base pose among the problem's
     /// obstacles, validated by the exact [`CollisionChecker`] (the problem's allowed pairs
     /// added to the robot's).
@@ -284,6 +371,7 @@ impl LoadedProblemSet {
             start: p.start.clone(),
             goal: p.goal.clone(),
             checker: Box::new(checker),
+            planning_checker: None,
         })
     }
 }

@@ -97,7 +97,7 @@ pub mod mbm;
 mod validate;
 pub mod yaml;
 
-pub use instance::LoadedProblemSet;
+pub use instance::{LoadedProblemSet, PlanningModel};
 
 /// The value of the `format` field.
 pub const FORMAT: &str = "opengrasp-problem-set";

@@ -7,6 +7,9 @@
 //!   the cover tightens with the cell size.
 //! - [`adaptive_cover`]: the voxel cover with cells merged octree-wise into larger spheres
 //!   wherever a larger sphere stays within a given overhang: far fewer spheres, same guarantee.
+//! - [`greedy_cover`]: spheres placed freely (centres on a grid inside the mesh or on the
+//!   surface), chosen by greedy set cover of small surface pieces, each radius certified as
+//!   the farthest corner of the pieces it covers: the fewest spheres for an overhang budget.
 //! - [`bounding_box_cover`]: the cover [`SphereWorld`](super::SphereWorld) uses for meshes: a
 //!   grid of spheres over the mesh's bounding box (cells as wide as its thinnest side).
 //!   Guaranteed as well, but it fills the whole box.
@@ -19,6 +22,8 @@ use nalgebra::{Isometry3, Point3, Vector3};
 use opengrasp_core::model::TriangleMesh;
 
 use crate::error::{MotionError, Result};
+
+pub use super::greedy::{greedy_cover, signed_depth, GreedyCoverOptions, MAX_CANDIDATES};
 
 /// Most sub-triangles [`voxel_cover`] generates before refusing the cell size.
 pub const MAX_COVER_PIECES: usize = 4_000_000;
@@ -53,7 +58,7 @@ pub fn surface_distance(mesh: &TriangleMesh, p: &Point3<f64>) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-fn closest_on_triangle(p: &Point3<f64>, a: &Point3<f64>, b: &Point3<f64>, c: &Point3<f64>) -> Point3<f64> {
+pub(super) fn closest_on_triangle(p: &Point3<f64>, a: &Point3<f64>, b: &Point3<f64>, c: &Point3<f64>) -> Point3<f64> {
     let (ab, ac, ap) = (b - a, c - a, p - a);
     let (d1, d2) = (ab.dot(&ap), ac.dot(&ap));
     if d1 <= 0.0 && d2 <= 0.0 {
@@ -142,6 +147,71 @@ pub fn adaptive_cover(mesh: &TriangleMesh, cell: f64, max_overhang: f64) -> Resu
     Ok(SphereCover { spheres })
 }
 
+/// The triangles of `mesh`, each split at its edge midpoints until no edge is longer than
+/// `max_edge` (m): pieces whose union is the surface (up to rounding of the midpoints).
+/// `bisect`: split only the longest edge each time (two pieces; far fewer pieces for long,
+/// thin triangles) instead of all three (four pieces).
+///
+/// # Errors
+/// [`MotionError::InvalidParameter`] (named `name`) if `max_edge` is not a positive finite
+/// length or would need more than [`MAX_COVER_PIECES`] pieces.
+pub(super) fn split_triangles(
+    mesh: &TriangleMesh,
+    max_edge: f64,
+    name: &'static str,
+    bisect: bool,
+) -> Result<Vec<[Point3<f64>; 3]>> {
+    let invalid = |reason: String| MotionError::InvalidParameter { name, reason };
+    if !(max_edge.is_finite() && max_edge > 0.0) {
+        return Err(invalid(format!("{max_edge} is not a positive length")));
+    }
+    let v = mesh.vertices();
+    let edges = |t: &[Point3<f64>; 3]| [(t[1] - t[0]).norm(), (t[2] - t[1]).norm(), (t[0] - t[2]).norm()];
+    let longest = |t: &[Point3<f64>; 3]| edges(t).into_iter().fold(0.0, f64::max);
+    let tris: Vec<[Point3<f64>; 3]> =
+        mesh.triangles().iter().map(|t| [v[t[0] as usize], v[t[1] as usize], v[t[2] as usize]]).collect();
+    // Four-way splitting halves every edge per level: an upper bound on the count.
+    let mut pieces = 0usize;
+    for t in &tris {
+        let levels = (longest(t) / max_edge).log2().ceil().max(0.0);
+        pieces = pieces.saturating_add(4usize.saturating_pow(levels.min(31.0) as u32));
+    }
+    if bisect {
+        // Bisection leaves pieces of about a quarter of `max_edge`² each or more.
+        pieces = (4.0 * mesh.surface_area() / (max_edge * max_edge)).min(usize::MAX as f64) as usize;
+    }
+    if pieces > MAX_COVER_PIECES {
+        return Err(invalid(format!("{max_edge} m needs {pieces} triangle pieces, more than {MAX_COVER_PIECES}")));
+    }
+    let mut out = Vec::new();
+    let mut stack = tris;
+    while let Some(t) = stack.pop() {
+        let e = edges(&t);
+        if e.iter().all(|&l| l <= max_edge) {
+            out.push(t);
+            if out.len() > MAX_COVER_PIECES {
+                return Err(invalid(format!("{max_edge} m needs more than {MAX_COVER_PIECES} triangle pieces")));
+            }
+        } else if bisect {
+            // Split the longest edge (i, i + 1) at its midpoint.
+            let i = if e[0] >= e[1] && e[0] >= e[2] {
+                0
+            } else if e[1] >= e[2] {
+                1
+            } else {
+                2
+            };
+            let (a, b, c) = (t[i], t[(i + 1) % 3], t[(i + 2) % 3]);
+            let m = nalgebra::center(&a, &b);
+            stack.extend([[a, m, c], [m, b, c]]);
+        } else {
+            let m = [nalgebra::center(&t[0], &t[1]), nalgebra::center(&t[1], &t[2]), nalgebra::center(&t[2], &t[0])];
+            stack.extend([[t[0], m[0], m[2]], [m[0], t[1], m[1]], [m[2], m[1], t[2]], m]);
+        }
+    }
+    Ok(out)
+}
+
 type Cell = (i64, i64, i64);
 
 /// The cells of edge `cell` from the mesh's bounding-box minimum that its surface touches
@@ -155,33 +225,11 @@ struct Grid {
 
 impl Grid {
     fn new(mesh: &TriangleMesh, cell: f64) -> Result<Self> {
-        let invalid = |reason: String| MotionError::InvalidParameter { name: "cell", reason };
-        if !(cell.is_finite() && cell > 0.0) {
-            return Err(invalid(format!("{cell} is not a positive length")));
-        }
-        let v = mesh.vertices();
-        let longest = |t: &[Point3<f64>; 3]| (t[1] - t[0]).norm().max((t[2] - t[1]).norm()).max((t[0] - t[2]).norm());
-        let tris: Vec<[Point3<f64>; 3]> =
-            mesh.triangles().iter().map(|t| [v[t[0] as usize], v[t[1] as usize], v[t[2] as usize]]).collect();
-        let mut pieces = 0usize;
-        for t in &tris {
-            let levels = (longest(t) / cell).log2().ceil().max(0.0);
-            pieces = pieces.saturating_add(4usize.saturating_pow(levels.min(31.0) as u32));
-        }
-        if pieces > MAX_COVER_PIECES {
-            return Err(invalid(format!("{cell} m needs {pieces} triangle pieces, more than {MAX_COVER_PIECES}")));
-        }
+        let pieces = split_triangles(mesh, cell, "cell", false)?;
         let (lo, hi) = mesh.aabb();
         let index = |x: f64, o: f64| ((x - o) / cell).floor() as i64;
         let mut cells = BTreeSet::new();
-        let mut stack = tris;
-        while let Some(t) = stack.pop() {
-            if longest(&t) > cell {
-                let m =
-                    [nalgebra::center(&t[0], &t[1]), nalgebra::center(&t[1], &t[2]), nalgebra::center(&t[2], &t[0])];
-                stack.extend([[t[0], m[0], m[2]], [m[0], t[1], m[1]], [m[2], m[1], t[2]], m]);
-                continue;
-            }
+        for t in &pieces {
             let a = t[0].coords.inf(&t[1].coords).inf(&t[2].coords);
             let b = t[0].coords.sup(&t[1].coords).sup(&t[2].coords);
             for i in index(a.x, lo.x).max(0)..=index(b.x, lo.x) {

@@ -15,8 +15,11 @@
 //!   report collision checks per run).
 
 mod bound;
+mod chain;
 pub mod cover;
 mod exact;
+mod greedy;
+mod obstacles;
 mod soa;
 mod spheres;
 
@@ -24,7 +27,8 @@ use std::cell::Cell;
 
 pub use bound::MotionBound;
 pub use exact::CollisionChecker;
-pub use spheres::{MeshCover, ObstacleBox, SelfCollisionPairs, SphereWorld};
+pub use obstacles::{ObstacleBox, ObstaclePrimitive, ObstacleShape};
+pub use spheres::{MeshCover, SelfCollisionPairs, SphereWorld};
 
 /// Decides whether group configurations are valid (collision-free).
 ///

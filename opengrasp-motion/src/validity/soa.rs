@@ -7,39 +7,113 @@ use std::cell::RefCell;
 
 use nalgebra::{Isometry3, Point3};
 
-use super::ObstacleBox;
+use super::chain::Mat34;
+use super::ObstacleShape;
 
-/// A box in the form the kernels use: world-to-box rotation (row-major), centre, half extents.
+/// An obstacle in the form the kernels use: world-to-local rotation (row-major), centre and
+/// the closed-form shape.
 #[derive(Clone, Debug)]
-struct BoxFrame {
+pub(super) struct ObstacleFrame {
     r: [f64; 9],
     t: [f64; 3],
-    h: [f64; 3],
+    shape: ObstacleShape,
+    /// Radius of a sphere about `t` holding the obstacle (for culling).
+    bound: f64,
 }
 
-impl BoxFrame {
-    fn new(b: &ObstacleBox) -> Self {
-        let m = b.pose.rotation.to_rotation_matrix();
+impl ObstacleFrame {
+    pub fn new(pose: &Isometry3<f64>, shape: ObstacleShape) -> Self {
+        let m = pose.rotation.to_rotation_matrix();
         let m = m.matrix();
         // Rows of Rᵀ are the columns of R.
         let r = [m[(0, 0)], m[(1, 0)], m[(2, 0)], m[(0, 1)], m[(1, 1)], m[(2, 1)], m[(0, 2)], m[(1, 2)], m[(2, 2)]];
-        let t = b.pose.translation.vector;
-        Self { r, t: [t.x, t.y, t.z], h: [b.half_extents.x, b.half_extents.y, b.half_extents.z] }
+        let t = pose.translation.vector;
+        let bound = match shape {
+            ObstacleShape::Box { half_extents: h } => h.norm(),
+            ObstacleShape::Sphere { radius } => radius,
+            ObstacleShape::Cylinder { radius, half_length } => radius.hypot(half_length),
+            ObstacleShape::Capsule { radius, half_length } => radius + half_length,
+        };
+        Self { r, t: [t.x, t.y, t.z], shape, bound: bound * (1.0 + 1e-9) + 1e-12 }
     }
 
-    /// Signed distance from `(x, y, z)` to the box surface (negative inside), as
-    /// [`ObstacleBox::signed_distance`].
+    /// `(x, y, z)` in the obstacle's frame.
     #[inline(always)]
-    fn signed_distance(&self, x: f64, y: f64, z: f64) -> f64 {
+    fn local(&self, x: f64, y: f64, z: f64) -> (f64, f64, f64) {
         let (px, py, pz) = (x - self.t[0], y - self.t[1], z - self.t[2]);
         let r = &self.r;
-        let lx = r[0] * px + r[1] * py + r[2] * pz;
-        let ly = r[3] * px + r[4] * py + r[5] * pz;
-        let lz = r[6] * px + r[7] * py + r[8] * pz;
-        let (dx, dy, dz) = (lx.abs() - self.h[0], ly.abs() - self.h[1], lz.abs() - self.h[2]);
-        let (ox, oy, oz) = (dx.max(0.0), dy.max(0.0), dz.max(0.0));
-        (ox * ox + oy * oy + oz * oz).sqrt() + dx.max(dy).max(dz).min(0.0)
+        (r[0] * px + r[1] * py + r[2] * pz, r[3] * px + r[4] * py + r[5] * pz, r[6] * px + r[7] * py + r[8] * pz)
     }
+
+    /// Signed distance from `(x, y, z)` to the obstacle's surface (negative inside), exact.
+    #[inline(always)]
+    pub fn signed_distance(&self, x: f64, y: f64, z: f64) -> f64 {
+        match self.shape {
+            ObstacleShape::Box { half_extents: h } => box_distance(self.local(x, y, z), [h.x, h.y, h.z]),
+            ObstacleShape::Sphere { radius } => sphere_distance(&self.t, radius, x, y, z),
+            ObstacleShape::Cylinder { radius, half_length } => {
+                cylinder_distance(self.local(x, y, z), radius, half_length)
+            }
+            ObstacleShape::Capsule { radius, half_length } => {
+                capsule_distance(self.local(x, y, z), radius, half_length)
+            }
+        }
+    }
+
+    /// True if some sphere `(xs[i], ys[i], zs[i], rs[i])` touches the obstacle. Branch-free
+    /// per shape, so each loop vectorises.
+    fn any_hit(&self, xs: &[f64], ys: &[f64], zs: &[f64], rs: &[f64]) -> bool {
+        let n = xs.len().min(ys.len()).min(zs.len()).min(rs.len());
+        let (xs, ys, zs, rs) = (&xs[..n], &ys[..n], &zs[..n], &rs[..n]);
+        match self.shape {
+            ObstacleShape::Box { half_extents: h } => {
+                let h = [h.x, h.y, h.z];
+                any(n, |i| box_distance(self.local(xs[i], ys[i], zs[i]), h) <= rs[i])
+            }
+            ObstacleShape::Sphere { radius } => {
+                any(n, |i| sphere_distance(&self.t, radius, xs[i], ys[i], zs[i]) <= rs[i])
+            }
+            ObstacleShape::Cylinder { radius, half_length } => {
+                any(n, |i| cylinder_distance(self.local(xs[i], ys[i], zs[i]), radius, half_length) <= rs[i])
+            }
+            ObstacleShape::Capsule { radius, half_length } => {
+                any(n, |i| capsule_distance(self.local(xs[i], ys[i], zs[i]), radius, half_length) <= rs[i])
+            }
+        }
+    }
+}
+
+/// True if `f(i)` for some `i < n`: a branch-free fold the compiler vectorises.
+#[inline(always)]
+fn any(n: usize, f: impl Fn(usize) -> bool) -> bool {
+    (0..n).fold(false, |acc, i| acc | f(i))
+}
+
+#[inline(always)]
+fn box_distance((lx, ly, lz): (f64, f64, f64), h: [f64; 3]) -> f64 {
+    let (dx, dy, dz) = (lx.abs() - h[0], ly.abs() - h[1], lz.abs() - h[2]);
+    let (ox, oy, oz) = (dx.max(0.0), dy.max(0.0), dz.max(0.0));
+    (ox * ox + oy * oy + oz * oz).sqrt() + dx.max(dy).max(dz).min(0.0)
+}
+
+#[inline(always)]
+fn sphere_distance(t: &[f64; 3], radius: f64, x: f64, y: f64, z: f64) -> f64 {
+    let (px, py, pz) = (x - t[0], y - t[1], z - t[2]);
+    (px * px + py * py + pz * pz).sqrt() - radius
+}
+
+#[inline(always)]
+fn cylinder_distance((lx, ly, lz): (f64, f64, f64), radius: f64, half_length: f64) -> f64 {
+    let dr = (lx * lx + ly * ly).sqrt() - radius;
+    let dz = lz.abs() - half_length;
+    let (or, oz) = (dr.max(0.0), dz.max(0.0));
+    (or * or + oz * oz).sqrt() + dr.max(dz).min(0.0)
+}
+
+#[inline(always)]
+fn capsule_distance((lx, ly, lz): (f64, f64, f64), radius: f64, half_length: f64) -> f64 {
+    let dz = lz - lz.clamp(-half_length, half_length);
+    (lx * lx + ly * ly + dz * dz).sqrt() - radius
 }
 
 /// Sphere centres of one state, struct of arrays, plus each link's bounding-sphere centre.
@@ -49,13 +123,14 @@ pub(super) struct Centres {
     y: Vec<f64>,
     z: Vec<f64>,
     link: Vec<[f64; 3]>,
+    /// Whether each link's spheres are placed yet (they are placed when first needed).
+    placed: Vec<bool>,
 }
 
 /// Per-thread buffers of the sphere model's state checks.
 #[derive(Debug, Default)]
 pub(super) struct Scratch {
-    pub full: Vec<f64>,
-    pub poses: Vec<Isometry3<f64>>,
+    pub frames: Vec<Mat34>,
     pub centres: Centres,
     pub q: Vec<f64>,
 }
@@ -76,22 +151,39 @@ pub(super) fn with_scratch<R>(f: impl FnOnce(&mut Scratch) -> R) -> R {
 /// bounding sphere per link and the boxes in kernel form.
 #[derive(Clone, Debug)]
 pub(super) struct SphereSoa {
-    /// Centres in the link frame, and radii.
+    /// Centres in the frame of their link's [`Chain`](super::chain::Chain) frame, and radii.
     x: Vec<f64>,
     y: Vec<f64>,
     z: Vec<f64>,
     r: Vec<f64>,
     /// Range of spheres of each link.
     ranges: Vec<(usize, usize)>,
+    /// Chain frame of each link.
+    frame: Vec<usize>,
     /// Bounding sphere of each link (centre in the link frame, radius).
     link_centre: Vec<Point3<f64>>,
     link_radius: Vec<f64>,
-    boxes: Vec<BoxFrame>,
+    obstacles: Vec<ObstacleFrame>,
 }
 
 impl SphereSoa {
-    /// From `(link index, centre, radius)` triples grouped by link (`ranges`) and the boxes.
-    pub fn new(spheres: &[(usize, Point3<f64>, f64)], ranges: &[(usize, usize)], boxes: &[ObstacleBox]) -> Self {
+    /// From `(link index, centre, radius)` triples grouped by link (`ranges`), each link's
+    /// chain frame and pose in it (`links`), and the obstacles.
+    pub fn new(
+        spheres: &[(usize, Point3<f64>, f64)],
+        ranges: &[(usize, usize)],
+        links: &[(usize, Mat34)],
+        obstacles: Vec<ObstacleFrame>,
+    ) -> Self {
+        let at = |k: usize, p: &Point3<f64>| {
+            let m = &links[k].1;
+            Point3::new(
+                m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3],
+                m[4] * p.x + m[5] * p.y + m[6] * p.z + m[7],
+                m[8] * p.x + m[9] * p.y + m[10] * p.z + m[11],
+            )
+        };
+        let spheres: Vec<(usize, Point3<f64>, f64)> = spheres.iter().map(|&(k, c, r)| (k, at(k, &c), r)).collect();
         let mut link_centre = Vec::with_capacity(ranges.len());
         let mut link_radius = Vec::with_capacity(ranges.len());
         for &(s, e) in ranges {
@@ -108,48 +200,65 @@ impl SphereSoa {
             z: spheres.iter().map(|s| s.1.z).collect(),
             r: spheres.iter().map(|s| s.2).collect(),
             ranges: ranges.to_vec(),
+            frame: links.iter().map(|l| l.0).collect(),
             link_centre,
             link_radius,
-            boxes: boxes.iter().map(BoxFrame::new).collect(),
+            obstacles,
         }
     }
 
-    /// Places the spheres with the world poses of the links (in `ranges` order).
-    pub fn place(&self, link_poses: impl Iterator<Item = Isometry3<f64>>, out: &mut Centres) {
+    /// Starts a state: the links' bounding-sphere centres from the world poses of the chain
+    /// frames; the spheres themselves are placed per link when a test first needs them.
+    pub fn begin(&self, frames: &[Mat34], out: &mut Centres) {
         let n = self.x.len();
         out.x.resize(n, 0.0);
         out.y.resize(n, 0.0);
         out.z.resize(n, 0.0);
         out.link.clear();
-        for ((&(s, e), pose), lc) in self.ranges.iter().zip(link_poses).zip(&self.link_centre) {
-            let m = pose.rotation.to_rotation_matrix();
-            let m = m.matrix();
-            let t = pose.translation.vector;
-            let c = pose * lc;
-            out.link.push([c.x, c.y, c.z]);
-            let (xs, ys, zs) = (&self.x[s..e], &self.y[s..e], &self.z[s..e]);
-            let (ox, oy, oz) = (&mut out.x[s..e], &mut out.y[s..e], &mut out.z[s..e]);
-            for i in 0..xs.len() {
-                let (x, y, z) = (xs[i], ys[i], zs[i]);
-                ox[i] = m[(0, 0)] * x + m[(0, 1)] * y + m[(0, 2)] * z + t.x;
-                oy[i] = m[(1, 0)] * x + m[(1, 1)] * y + m[(1, 2)] * z + t.y;
-                oz[i] = m[(2, 0)] * x + m[(2, 1)] * y + m[(2, 2)] * z + t.z;
-            }
+        out.placed.clear();
+        out.placed.resize(self.ranges.len(), false);
+        for (&f, lc) in self.frame.iter().zip(&self.link_centre) {
+            out.link.push(transform(&frames[f], lc.x, lc.y, lc.z));
         }
     }
 
-    /// True if no sphere touches a box (signed distance of the centre > radius for all).
-    pub fn free_of_boxes(&self, c: &Centres) -> bool {
-        for b in &self.boxes {
+    /// Places link `k`'s spheres if not yet done.
+    #[inline]
+    fn ensure(&self, frames: &[Mat34], out: &mut Centres, k: usize) {
+        if out.placed[k] {
+            return;
+        }
+        out.placed[k] = true;
+        let (s, e) = self.ranges[k];
+        let m = &frames[self.frame[k]];
+        let (xs, ys, zs) = (&self.x[s..e], &self.y[s..e], &self.z[s..e]);
+        let (ox, oy, oz) = (&mut out.x[s..e], &mut out.y[s..e], &mut out.z[s..e]);
+        for i in 0..xs.len() {
+            let (x, y, z) = (xs[i], ys[i], zs[i]);
+            ox[i] = m[0] * x + m[1] * y + m[2] * z + m[3];
+            oy[i] = m[4] * x + m[5] * y + m[6] * z + m[7];
+            oz[i] = m[8] * x + m[9] * y + m[10] * z + m[11];
+        }
+    }
+
+    /// The obstacles.
+    pub fn obstacles(&self) -> &[ObstacleFrame] {
+        &self.obstacles
+    }
+
+    /// True if no sphere touches an obstacle (signed distance of the centre > radius for all),
+    /// each link culled by its bounding sphere against the obstacle's.
+    pub fn free_of_obstacles(&self, frames: &[Mat34], c: &mut Centres) -> bool {
+        for o in &self.obstacles {
             for (k, &(s, e)) in self.ranges.iter().enumerate() {
                 let [lx, ly, lz] = c.link[k];
-                if b.signed_distance(lx, ly, lz) > self.link_radius[k] {
+                let d2 = (lx - o.t[0]).powi(2) + (ly - o.t[1]).powi(2) + (lz - o.t[2]).powi(2);
+                let reach = self.link_radius[k] + o.bound;
+                if d2 > reach * reach || o.signed_distance(lx, ly, lz) > self.link_radius[k] {
                     continue;
                 }
-                let (xs, ys, zs, rs) = (&c.x[s..e], &c.y[s..e], &c.z[s..e], &self.r[s..e]);
-                // Branch-free over the link's spheres, so the loop vectorises.
-                let hit = (0..xs.len()).fold(false, |acc, i| acc | (b.signed_distance(xs[i], ys[i], zs[i]) <= rs[i]));
-                if hit {
+                self.ensure(frames, c, k);
+                if o.any_hit(&c.x[s..e], &c.y[s..e], &c.z[s..e], &self.r[s..e]) {
                     return false;
                 }
             }
@@ -157,25 +266,46 @@ impl SphereSoa {
         true
     }
 
-    /// True if no sphere of link `a` touches one of link `b` (all gaps > 0).
-    pub fn pair_clear(&self, c: &Centres, a: usize, b: usize) -> bool {
+    /// True if no sphere of link `a` touches one of link `b` (all gaps > 0); each sphere of
+    /// `a` is culled first by `b`'s bounding sphere.
+    pub fn pair_clear(&self, frames: &[Mat34], c: &mut Centres, a: usize, b: usize) -> bool {
         let (ca, cb) = (c.link[a], c.link[b]);
-        let d = ((ca[0] - cb[0]).powi(2) + (ca[1] - cb[1]).powi(2) + (ca[2] - cb[2]).powi(2)).sqrt();
-        if d - self.link_radius[a] - self.link_radius[b] > 0.0 {
+        let (ra, rb) = (self.link_radius[a], self.link_radius[b]);
+        if gap(&ca, &cb, ra + rb) > 0.0 {
             return true;
         }
+        self.ensure(frames, c, a);
+        self.ensure(frames, c, b);
         let ((sa, ea), (sb, eb)) = (self.ranges[a], self.ranges[b]);
         for i in sa..ea {
             let (x, y, z, r) = (c.x[i], c.y[i], c.z[i], self.r[i]);
+            if gap(&[x, y, z], &cb, r + rb) > 0.0 {
+                continue;
+            }
             let (xs, ys, zs, rs) = (&c.x[sb..eb], &c.y[sb..eb], &c.z[sb..eb], &self.r[sb..eb]);
-            let hit = (0..xs.len()).fold(false, |acc, j| {
-                let gap = ((xs[j] - x).powi(2) + (ys[j] - y).powi(2) + (zs[j] - z).powi(2)).sqrt() - r - rs[j];
-                acc | (gap <= 0.0)
-            });
+            let n = xs.len().min(ys.len()).min(zs.len()).min(rs.len());
+            let hit =
+                any(n, |j| ((xs[j] - x).powi(2) + (ys[j] - y).powi(2) + (zs[j] - z).powi(2)).sqrt() - r - rs[j] <= 0.0);
             if hit {
                 return false;
             }
         }
         true
     }
+}
+
+/// `|a − b| − radii`.
+#[inline(always)]
+fn gap(a: &[f64; 3], b: &[f64; 3], radii: f64) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt() - radii
+}
+
+/// `m · (x, y, z)`.
+#[inline(always)]
+fn transform(m: &Mat34, x: f64, y: f64, z: f64) -> [f64; 3] {
+    [
+        m[0] * x + m[1] * y + m[2] * z + m[3],
+        m[4] * x + m[5] * y + m[6] * z + m[7],
+        m[8] * x + m[9] * y + m[10] * z + m[11],
+    ]
 }

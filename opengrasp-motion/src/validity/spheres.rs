@@ -1,4 +1,4 @@
-//! A sphere-covered robot among oriented boxes: closed-form, conservative checks.
+//! A sphere-covered robot among closed-form obstacles: conservative, fast checks.
 
 use std::sync::Arc;
 
@@ -8,36 +8,10 @@ use opengrasp_core::model::{Geometry, JointGroup, LinkId, Robot};
 
 use crate::error::Result;
 
+use super::chain::Chain;
 use super::cover::{self, cover_box};
-use super::soa::{with_scratch, Scratch, SphereSoa};
-use super::{MotionBound, StateValidityChecker};
-
-/// An oriented box obstacle of a [`SphereWorld`].
-#[derive(Clone, Debug, PartialEq)]
-pub struct ObstacleBox {
-    /// Name, for reports.
-    pub name: String,
-    /// Pose of the box centre in the world frame.
-    pub pose: Isometry3<f64>,
-    /// Half extents along the box axes (m).
-    pub half_extents: Vector3<f64>,
-}
-
-impl ObstacleBox {
-    /// A box from its name, world pose and full size.
-    pub fn new(name: impl Into<String>, pose: Isometry3<f64>, size: Vector3<f64>) -> Self {
-        Self { name: name.into(), pose, half_extents: size * 0.5 }
-    }
-
-    /// Signed distance from a world point to the box surface (negative inside).
-    pub fn signed_distance(&self, p: &Point3<f64>) -> f64 {
-        let l = self.pose.inverse_transform_point(p);
-        let h = &self.half_extents;
-        let d = Vector3::new(l.x.abs() - h.x, l.y.abs() - h.y, l.z.abs() - h.z);
-        let outside = Vector3::new(d.x.max(0.0), d.y.max(0.0), d.z.max(0.0)).norm();
-        outside + d.x.max(d.y).max(d.z).min(0.0)
-    }
-}
+use super::soa::{with_scratch, ObstacleFrame, Scratch, SphereSoa};
+use super::{MotionBound, ObstacleBox, ObstaclePrimitive, StateValidityChecker};
 
 /// Which link pairs a [`SphereWorld`] checks for self-collision.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -56,8 +30,9 @@ pub enum SelfCollisionPairs {
     Robot,
 }
 
-/// A robot whose links are covered by spheres, among oriented boxes: closed-form, conservative
-/// distances for tests and stand-in scenes.
+/// A robot whose links are covered by spheres, among closed-form obstacles (boxes, and with
+/// [`SphereWorld::with_obstacles`] spheres, cylinders, capsules): closed-form, conservative
+/// distances and fast state checks.
 ///
 /// Each collision shape is covered by spheres (a capsule or cylinder of radius `r` by spheres
 /// along its axis at spacing `s ≤ r`, radius `√(r² + s²/4)`; a box by a grid of spheres; a mesh
@@ -86,9 +61,16 @@ pub struct SphereWorld {
     ranges: Vec<(usize, usize)>,
     links: Vec<LinkId>,
     pairs: Vec<(usize, usize)>,
+    /// How `pairs` was chosen, and link pairs allowed on top of the robot's.
+    pair_mode: SelfCollisionPairs,
+    allowed: Vec<(LinkId, LinkId)>,
     boxes: Vec<ObstacleBox>,
+    /// Every obstacle: the boxes, then the primitives added by [`SphereWorld::with_obstacles`].
+    obstacles: Vec<ObstaclePrimitive>,
     bound: MotionBound,
-    /// The same spheres as `spheres`, struct of arrays, for the state checks.
+    /// The group's kinematics, compiled, for the state checks.
+    chain: Chain,
+    /// The same spheres as `spheres`, struct of arrays in chain frames, for the state checks.
     soa: SphereSoa,
 }
 
@@ -112,6 +94,9 @@ pub enum MeshCover {
         /// Largest reach of a sphere past the surface (m), at least `2√3 · cell`.
         max_overhang: f64,
     },
+    /// Freely placed spheres chosen by greedy set cover ([`cover::greedy_cover`]): every
+    /// surface point covered, the fewest spheres for an overhang budget.
+    Greedy(cover::GreedyCoverOptions),
 }
 
 fn cover_shape(
@@ -136,6 +121,7 @@ fn cover_shape(
             let cover = match meshes {
                 MeshCover::BoundingBox => cover::bounding_box_cover(mesh),
                 MeshCover::Voxels { cell } => cover::voxel_cover(mesh, cell)?,
+                MeshCover::Greedy(options) => cover::greedy_cover(mesh, &options)?,
                 MeshCover::Adaptive { cell, max_overhang } => cover::adaptive_cover(mesh, cell, max_overhang)?,
             };
             out.extend(cover.spheres.iter().map(|(c, r)| (origin * c, *r)));
@@ -203,21 +189,43 @@ impl SphereWorld {
             points.push(pts);
         }
         let bound = MotionBound::new(&robot, &group, &links, &points)?;
-        let soa = SphereSoa::new(&spheres, &ranges, &boxes);
-        let world =
-            Self { robot, group, q_full, base_pose, spheres, ranges, links, pairs: Vec::new(), boxes, bound, soa };
+        let obstacles: Vec<ObstaclePrimitive> = boxes.iter().cloned().map(ObstaclePrimitive::from).collect();
+        let chain = Chain::new(&robot, &group, &q_full, &base_pose);
+        let link_frames: Vec<_> = links.iter().map(|&l| chain.link(l)).collect();
+        let soa = SphereSoa::new(&spheres, &ranges, &link_frames, frames(&obstacles));
+        let world = Self {
+            robot,
+            group,
+            q_full,
+            base_pose,
+            spheres,
+            ranges,
+            links,
+            pairs: Vec::new(),
+            pair_mode: SelfCollisionPairs::default(),
+            allowed: Vec::new(),
+            boxes,
+            obstacles,
+            bound,
+            chain,
+            soa,
+        };
         Ok(world.with_self_collision(SelfCollisionPairs::default()))
     }
 
     /// This world checking the self-collision pairs chosen by `pairs`.
     pub fn with_self_collision(mut self, pairs: SelfCollisionPairs) -> Self {
+        self.pair_mode = pairs;
         let reference = self.q_full.clone();
         let centres = self.sphere_centres(&reference);
         let n = self.links.len();
         self.pairs.clear();
         for a in 0..n {
             for b in a + 1..n {
-                if self.robot.is_collision_allowed(self.links[a], self.links[b]) {
+                let (la, lb) = (self.links[a], self.links[b]);
+                if self.robot.is_collision_allowed(la, lb)
+                    || self.allowed.iter().any(|&(x, y)| (x, y) == (la, lb) || (y, x) == (la, lb))
+                {
                     continue;
                 }
                 if pairs == SelfCollisionPairs::Robot || self.pair_distance(&centres, a, b) > 0.0 {
@@ -228,6 +236,43 @@ impl SphereWorld {
         self
     }
 
+    /// This world with `obstacles` added (any closed-form solid; the boxes given at
+    /// construction stay).
+    ///
+    /// # Errors
+    /// [`MotionError::InvalidParameter`](crate::MotionError::InvalidParameter) for an obstacle
+    /// with a non-positive or non-finite size or pose ([`ObstaclePrimitive::validate`]).
+    pub fn with_obstacles(mut self, obstacles: impl IntoIterator<Item = ObstaclePrimitive>) -> Result<Self> {
+        for o in obstacles {
+            o.validate()?;
+            self.obstacles.push(o);
+        }
+        self.rebuild();
+        Ok(self)
+    }
+
+    /// The same robot model (spheres, self-collision rule) in another problem: the joints
+    /// outside the group at `q_full`, among `obstacles` only, with the link pairs `allowed`
+    /// to touch on top of the robot's. Cheap next to building the cover: use it to plan many
+    /// problems with one robot.
+    ///
+    /// # Errors
+    /// [`MotionError::Core`](crate::MotionError::Core) if `q_full` is not a configuration of
+    /// the robot; as [`SphereWorld::with_obstacles`].
+    pub fn for_problem(
+        &self,
+        q_full: Vec<f64>,
+        obstacles: impl IntoIterator<Item = ObstaclePrimitive>,
+        allowed: &[(LinkId, LinkId)],
+    ) -> Result<Self> {
+        self.robot.validate_configuration(&q_full)?;
+        let mut world =
+            Self { q_full, boxes: Vec::new(), obstacles: Vec::new(), allowed: allowed.to_vec(), ..self.clone() };
+        world.chain = Chain::new(&world.robot, &world.group, &world.q_full, &world.base_pose);
+        world = world.with_obstacles(obstacles)?;
+        Ok(world.with_self_collision(self.pair_mode))
+    }
+
     /// The robot.
     pub fn robot(&self) -> &Robot {
         &self.robot
@@ -236,9 +281,18 @@ impl SphereWorld {
     pub fn group(&self) -> &JointGroup {
         &self.group
     }
-    /// The obstacles.
+    /// The boxes given at construction.
     pub fn boxes(&self) -> &[ObstacleBox] {
         &self.boxes
+    }
+    /// Every obstacle: the boxes given at construction, then those added by
+    /// [`SphereWorld::with_obstacles`].
+    pub fn obstacles(&self) -> &[ObstaclePrimitive] {
+        &self.obstacles
+    }
+    /// The covering spheres of each covered link: `(link, centre in the link frame, radius)`.
+    pub fn spheres(&self) -> impl Iterator<Item = (LinkId, Point3<f64>, f64)> + '_ {
+        self.spheres.iter().map(|&(k, c, r)| (self.links[k], c, r))
     }
     /// Number of covering spheres.
     pub fn sphere_count(&self) -> usize {
@@ -285,28 +339,34 @@ impl SphereWorld {
         let (s, e) = self.ranges[k];
         let mut best = f64::INFINITY;
         for (c, sphere) in centres[s..e].iter().zip(&self.spheres[s..e]) {
-            for b in &self.boxes {
-                best = best.min(b.signed_distance(c) - sphere.2);
+            for o in self.soa.obstacles() {
+                best = best.min(o.signed_distance(c.x, c.y, c.z) - sphere.2);
             }
         }
         best
     }
 }
 
+fn frames(obstacles: &[ObstaclePrimitive]) -> Vec<ObstacleFrame> {
+    obstacles.iter().map(|o| ObstacleFrame::new(&o.pose, o.shape)).collect()
+}
+
 impl SphereWorld {
-    /// The state check behind [`StateValidityChecker::is_valid`]: forward kinematics, the
-    /// sphere centres as struct-of-arrays, then boxes and self-collision pairs, each culled by
-    /// the link's bounding sphere first.
+    /// Rebuilds the struct-of-arrays spheres and obstacles from `chain` and `obstacles`.
+    fn rebuild(&mut self) {
+        let link_frames: Vec<_> = self.links.iter().map(|&l| self.chain.link(l)).collect();
+        self.soa = SphereSoa::new(&self.spheres, &self.ranges, &link_frames, frames(&self.obstacles));
+    }
+
+    /// The state check behind [`StateValidityChecker::is_valid`]: the compiled forward
+    /// kinematics, the sphere centres as struct-of-arrays, then obstacles and self-collision
+    /// pairs, each culled by the link's bounding sphere first.
     fn check_state(&self, q: &[f64], s: &mut Scratch) -> bool {
-        s.full.clear();
-        s.full.extend_from_slice(&self.q_full);
-        for (&d, &v) in self.group.dofs().iter().zip(q) {
-            s.full[d] = v;
-        }
-        forward_kinematics_into(&self.robot, &s.full, &mut s.poses);
-        let poses: &[Isometry3<f64>] = &s.poses;
-        self.soa.place(self.links.iter().map(|l| self.base_pose * poses[l.0]), &mut s.centres);
-        self.soa.free_of_boxes(&s.centres) && self.pairs.iter().all(|&(a, b)| self.soa.pair_clear(&s.centres, a, b))
+        self.chain.frames(q, &mut s.frames);
+        self.soa.begin(&s.frames, &mut s.centres);
+        let (frames, centres) = (&s.frames, &mut s.centres);
+        self.soa.free_of_obstacles(frames, centres)
+            && self.pairs.iter().all(|&(a, b)| self.soa.pair_clear(frames, centres, a, b))
     }
 }
 

@@ -1,0 +1,149 @@
+//! Forward kinematics compiled for one planning group: only the frames the group's joints
+//! move, each its parent frame times a fixed 3×4 transform times one joint motion, in plain
+//! `f64` arrays (no quaternions, no allocation). Links rigidly attached to a frame (fixed
+//! joints, joints outside the group) ride on it.
+
+use nalgebra::Isometry3;
+use opengrasp_core::model::{JointGroup, JointKind, LinkId, Robot};
+
+/// A rigid transform as a row-major 3×4 matrix `[R | t]`.
+pub(super) type Mat34 = [f64; 12];
+
+/// The identity transform.
+pub(super) const IDENTITY: Mat34 = [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+
+/// `a ∘ b`.
+#[inline(always)]
+pub(super) fn compose(a: &Mat34, b: &Mat34) -> Mat34 {
+    let mut out = [0.0; 12];
+    for r in 0..3 {
+        let (a0, a1, a2, a3) = (a[4 * r], a[4 * r + 1], a[4 * r + 2], a[4 * r + 3]);
+        for c in 0..3 {
+            out[4 * r + c] = a0 * b[c] + a1 * b[4 + c] + a2 * b[8 + c];
+        }
+        out[4 * r + 3] = a0 * b[3] + a1 * b[7] + a2 * b[11] + a3;
+    }
+    out
+}
+
+/// The transform of an isometry.
+pub(super) fn mat34(iso: &Isometry3<f64>) -> Mat34 {
+    let m = iso.to_homogeneous();
+    [
+        m[(0, 0)],
+        m[(0, 1)],
+        m[(0, 2)],
+        m[(0, 3)],
+        m[(1, 0)],
+        m[(1, 1)],
+        m[(1, 2)],
+        m[(1, 3)],
+        m[(2, 0)],
+        m[(2, 1)],
+        m[(2, 2)],
+        m[(2, 3)],
+    ]
+}
+
+/// One moving frame: `parent ∘ fixed ∘ motion(scale · q[dof] + offset)`.
+#[derive(Clone, Debug)]
+struct Frame {
+    /// Index of the parent frame (frame 0 is the world).
+    parent: usize,
+    fixed: Mat34,
+    axis: [f64; 3],
+    prismatic: bool,
+    /// Index of the driving joint in the group's values.
+    dof: usize,
+    scale: f64,
+    offset: f64,
+}
+
+/// The compiled kinematics: frame 0 is the world (fixed), frames `1..` move.
+#[derive(Clone, Debug)]
+pub(super) struct Chain {
+    frames: Vec<Frame>,
+    /// Per link of the robot: its frame and its pose in that frame.
+    links: Vec<(usize, Mat34)>,
+}
+
+impl Chain {
+    /// The kinematics of `robot` at the base pose, moved by `group`, the other joints at
+    /// `q_full` (a valid full configuration).
+    pub fn new(robot: &Robot, group: &JointGroup, q_full: &[f64], base_pose: &Isometry3<f64>) -> Self {
+        let mut links = vec![(0usize, IDENTITY); robot.links().len()];
+        links[robot.root().0] = (0, mat34(base_pose));
+        let mut frames = Vec::new();
+        for &j in robot.joints_topological() {
+            let joint = robot.joint(j);
+            let (pf, parent) = links[joint.parent.0];
+            let at_origin = compose(&parent, &mat34(&joint.origin));
+            let driven = robot
+                .driving_dof(j)
+                .and_then(|(d, _)| group.dofs().iter().position(|&g| g == d).map(|gi| (d, gi)))
+                .filter(|_| joint.kind != JointKind::Fixed);
+            links[joint.child.0] = match driven {
+                Some((d, gi)) => {
+                    // The joint value is affine in the driving value: exact for direct joints
+                    // (scale 1, offset 0), multiplier and offset for mimic joints.
+                    let mut q = q_full.to_vec();
+                    q[d] = 0.0;
+                    let offset = robot.joint_position(&q, j);
+                    q[d] = 1.0;
+                    let scale = robot.joint_position(&q, j) - offset;
+                    frames.push(Frame {
+                        parent: pf,
+                        fixed: at_origin,
+                        axis: [joint.axis.x, joint.axis.y, joint.axis.z],
+                        prismatic: joint.kind == JointKind::Prismatic,
+                        dof: gi,
+                        scale,
+                        offset,
+                    });
+                    (frames.len(), IDENTITY)
+                }
+                None => (pf, compose(&at_origin, &mat34(&joint.motion(robot.joint_position(q_full, j))))),
+            };
+        }
+        Self { frames, links }
+    }
+
+    /// The frame link `l` rides on and its pose in that frame.
+    pub fn link(&self, l: LinkId) -> (usize, Mat34) {
+        self.links[l.0]
+    }
+
+    /// The world poses of every frame for group values `q` into `out` (frame 0 the identity).
+    #[inline]
+    pub fn frames(&self, q: &[f64], out: &mut Vec<Mat34>) {
+        out.clear();
+        out.push(IDENTITY);
+        for f in &self.frames {
+            let m = compose(&out[f.parent], &f.fixed);
+            let v = f.scale * q[f.dof] + f.offset;
+            let [x, y, z] = f.axis;
+            let motion = if f.prismatic {
+                [1.0, 0.0, 0.0, x * v, 0.0, 1.0, 0.0, y * v, 0.0, 0.0, 1.0, z * v]
+            } else {
+                // Rodrigues: R = cI + s[u]× + (1 − c)uuᵀ.
+                let (s, c) = v.sin_cos();
+                let k = 1.0 - c;
+                [
+                    c + k * x * x,
+                    k * x * y - s * z,
+                    k * x * z + s * y,
+                    0.0,
+                    k * x * y + s * z,
+                    c + k * y * y,
+                    k * y * z - s * x,
+                    0.0,
+                    k * x * z - s * y,
+                    k * y * z + s * x,
+                    c + k * z * z,
+                    0.0,
+                ]
+            };
+            out.push(compose(&m, &motion));
+        }
+    }
+}
