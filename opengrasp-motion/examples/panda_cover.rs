@@ -16,10 +16,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/mbm/panda/problems");
     let sets: Vec<LoadedProblemSet> =
         problem_set::load(dir)?.iter().map(LoadedProblemSet::new).collect::<Result<_, _>>()?;
-    if std::env::var("PROBE").is_ok() {
-        depth_probe(&sets[0]);
-        return Ok(());
-    }
     let budgets: Vec<f64> = std::env::args().skip(1).map(|a| a.parse()).collect::<Result<_, _>>()?;
     for budget in if budgets.is_empty() { vec![0.02, 0.01, 0.005] } else { budgets } {
         let options = GreedyCoverOptions { max_overhang: budget, ..GreedyCoverOptions::default() };
@@ -58,27 +54,4 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     Ok(())
-}
-
-#[allow(dead_code)]
-fn depth_probe(set: &LoadedProblemSet) {
-    use opengrasp_core::model::Geometry;
-    use opengrasp_motion::validity::cover::signed_depth;
-    for link in set.robot().links() {
-        for s in &link.collisions {
-            if let Geometry::Mesh(m) = &s.geometry {
-                let (lo, hi) = m.aabb();
-                let c = nalgebra::center(&lo, &hi);
-                println!(
-                    "{} tris {} watertight {} aabb {:?} depth at box centre {:.4} vol {:.6}",
-                    link.name,
-                    m.triangles().len(),
-                    m.is_watertight(),
-                    hi - lo,
-                    signed_depth(m, &c),
-                    m.signed_volume()
-                );
-            }
-        }
-    }
 }

@@ -123,6 +123,8 @@ pub(super) struct Centres {
     y: Vec<f64>,
     z: Vec<f64>,
     link: Vec<[f64; 3]>,
+    /// Cluster bounding-sphere centres (placed with their link's spheres).
+    cluster: Vec<[f64; 3]>,
     /// Whether each link's spheres are placed yet (they are placed when first needed).
     placed: Vec<bool>,
 }
@@ -158,6 +160,12 @@ pub(super) struct SphereSoa {
     r: Vec<f64>,
     /// Range of spheres of each link.
     ranges: Vec<(usize, usize)>,
+    /// Clusters of at most [`CLUSTER`] nearby spheres of one link: range of spheres, bounding
+    /// sphere (centre in the chain frame, radius); `link_clusters[k]` is link `k`'s range.
+    clusters: Vec<(usize, usize)>,
+    cluster_centre: Vec<Point3<f64>>,
+    cluster_radius: Vec<f64>,
+    link_clusters: Vec<(usize, usize)>,
     /// Chain frame of each link.
     frame: Vec<usize>,
     /// Bounding sphere of each link (centre in the link frame, radius).
@@ -183,23 +191,29 @@ impl SphereSoa {
                 m[8] * p.x + m[9] * p.y + m[10] * p.z + m[11],
             )
         };
-        let spheres: Vec<(usize, Point3<f64>, f64)> = spheres.iter().map(|&(k, c, r)| (k, at(k, &c), r)).collect();
+        let mut spheres: Vec<(usize, Point3<f64>, f64)> = spheres.iter().map(|&(k, c, r)| (k, at(k, &c), r)).collect();
         let mut link_centre = Vec::with_capacity(ranges.len());
         let mut link_radius = Vec::with_capacity(ranges.len());
+        let (mut clusters, mut link_clusters) = (Vec::new(), Vec::new());
         for &(s, e) in ranges {
-            let n = (e - s).max(1) as f64;
-            let c = spheres[s..e].iter().fold(Point3::origin(), |acc, (_, c, _)| acc + c.coords / n);
-            let r = spheres[s..e].iter().map(|(_, p, r)| (p - c).norm() + r).fold(0.0, f64::max);
+            let (c, r) = bounding(&spheres[s..e]);
             link_centre.push(c);
-            // A little slack: the culling must never skip a sphere the exact test would hit.
-            link_radius.push(r * (1.0 + 1e-9) + 1e-12);
+            link_radius.push(r);
+            let first = clusters.len();
+            split(&mut spheres, s, e, &mut clusters);
+            link_clusters.push((first, clusters.len()));
         }
+        let (cluster_centre, cluster_radius) = clusters.iter().map(|&(s, e)| bounding(&spheres[s..e])).unzip();
         Self {
             x: spheres.iter().map(|s| s.1.x).collect(),
             y: spheres.iter().map(|s| s.1.y).collect(),
             z: spheres.iter().map(|s| s.1.z).collect(),
             r: spheres.iter().map(|s| s.2).collect(),
             ranges: ranges.to_vec(),
+            clusters,
+            cluster_centre,
+            cluster_radius,
+            link_clusters,
             frame: links.iter().map(|l| l.0).collect(),
             link_centre,
             link_radius,
@@ -215,6 +229,7 @@ impl SphereSoa {
         out.y.resize(n, 0.0);
         out.z.resize(n, 0.0);
         out.link.clear();
+        out.cluster.resize(self.clusters.len(), [0.0; 3]);
         out.placed.clear();
         out.placed.resize(self.ranges.len(), false);
         for (&f, lc) in self.frame.iter().zip(&self.link_centre) {
@@ -231,6 +246,11 @@ impl SphereSoa {
         out.placed[k] = true;
         let (s, e) = self.ranges[k];
         let m = &frames[self.frame[k]];
+        let (cs, ce) = self.link_clusters[k];
+        for j in cs..ce {
+            let c = &self.cluster_centre[j];
+            out.cluster[j] = transform(m, c.x, c.y, c.z);
+        }
         let (xs, ys, zs) = (&self.x[s..e], &self.y[s..e], &self.z[s..e]);
         let (ox, oy, oz) = (&mut out.x[s..e], &mut out.y[s..e], &mut out.z[s..e]);
         for i in 0..xs.len() {
@@ -248,9 +268,14 @@ impl SphereSoa {
 
     /// True if no sphere touches an obstacle (signed distance of the centre > radius for all),
     /// each link culled by its bounding sphere against the obstacle's.
+    /// Links on frame 0 (fixed in the world) are skipped: see
+    /// [`SphereSoa::static_free_of_obstacles`].
     pub fn free_of_obstacles(&self, frames: &[Mat34], c: &mut Centres) -> bool {
         for o in &self.obstacles {
-            for (k, &(s, e)) in self.ranges.iter().enumerate() {
+            for k in 0..self.ranges.len() {
+                if self.frame[k] == 0 {
+                    continue;
+                }
                 let [lx, ly, lz] = c.link[k];
                 let d2 = (lx - o.t[0]).powi(2) + (ly - o.t[1]).powi(2) + (lz - o.t[2]).powi(2);
                 let reach = self.link_radius[k] + o.bound;
@@ -258,12 +283,38 @@ impl SphereSoa {
                     continue;
                 }
                 self.ensure(frames, c, k);
-                if o.any_hit(&c.x[s..e], &c.y[s..e], &c.z[s..e], &self.r[s..e]) {
-                    return false;
+                let (cs, ce) = self.link_clusters[k];
+                for j in cs..ce {
+                    let [x, y, z] = c.cluster[j];
+                    if o.signed_distance(x, y, z) > self.cluster_radius[j] {
+                        continue;
+                    }
+                    let (s, e) = self.clusters[j];
+                    if o.any_hit(&c.x[s..e], &c.y[s..e], &c.z[s..e], &self.r[s..e]) {
+                        return false;
+                    }
                 }
             }
         }
         true
+    }
+
+    /// True if link `k` is fixed in the world (its spheres never move).
+    pub fn is_static(&self, k: usize) -> bool {
+        self.frame[k] == 0
+    }
+
+    /// True if no sphere of a link fixed in the world touches an obstacle (the part of
+    /// [`SphereSoa::free_of_obstacles`] that never changes; their centres are stored in world
+    /// coordinates).
+    pub fn static_free_of_obstacles(&self) -> bool {
+        self.obstacles.iter().all(|o| {
+            self.ranges
+                .iter()
+                .enumerate()
+                .filter(|&(k, _)| self.frame[k] == 0)
+                .all(|(_, &(s, e))| !o.any_hit(&self.x[s..e], &self.y[s..e], &self.z[s..e], &self.r[s..e]))
+        })
     }
 
     /// True if no sphere of link `a` touches one of link `b` (all gaps > 0); each sphere of
@@ -276,22 +327,63 @@ impl SphereSoa {
         }
         self.ensure(frames, c, a);
         self.ensure(frames, c, b);
-        let ((sa, ea), (sb, eb)) = (self.ranges[a], self.ranges[b]);
-        for i in sa..ea {
-            let (x, y, z, r) = (c.x[i], c.y[i], c.z[i], self.r[i]);
-            if gap(&[x, y, z], &cb, r + rb) > 0.0 {
+        let ((ca0, ca1), (cb0, cb1)) = (self.link_clusters[a], self.link_clusters[b]);
+        for ja in ca0..ca1 {
+            let (pa, qa) = (c.cluster[ja], self.cluster_radius[ja]);
+            if gap(&pa, &cb, qa + rb) > 0.0 {
                 continue;
             }
-            let (xs, ys, zs, rs) = (&c.x[sb..eb], &c.y[sb..eb], &c.z[sb..eb], &self.r[sb..eb]);
-            let n = xs.len().min(ys.len()).min(zs.len()).min(rs.len());
-            let hit =
-                any(n, |j| ((xs[j] - x).powi(2) + (ys[j] - y).powi(2) + (zs[j] - z).powi(2)).sqrt() - r - rs[j] <= 0.0);
-            if hit {
-                return false;
+            for jb in cb0..cb1 {
+                if gap(&pa, &c.cluster[jb], qa + self.cluster_radius[jb]) > 0.0 {
+                    continue;
+                }
+                let ((sa, ea), (sb, eb)) = (self.clusters[ja], self.clusters[jb]);
+                for i in sa..ea {
+                    let (x, y, z, r) = (c.x[i], c.y[i], c.z[i], self.r[i]);
+                    let (xs, ys, zs, rs) = (&c.x[sb..eb], &c.y[sb..eb], &c.z[sb..eb], &self.r[sb..eb]);
+                    let n = xs.len().min(ys.len()).min(zs.len()).min(rs.len());
+                    let hit = any(n, |j| {
+                        ((xs[j] - x).powi(2) + (ys[j] - y).powi(2) + (zs[j] - z).powi(2)).sqrt() - r - rs[j] <= 0.0
+                    });
+                    if hit {
+                        return false;
+                    }
+                }
             }
         }
         true
     }
+}
+
+/// Most spheres per cluster.
+const CLUSTER: usize = 8;
+
+/// The sphere about the centroid of `spheres` holding them all, with a little slack: culling
+/// must never skip a sphere the exact test would hit.
+fn bounding(spheres: &[(usize, Point3<f64>, f64)]) -> (Point3<f64>, f64) {
+    let n = spheres.len().max(1) as f64;
+    let c = spheres.iter().fold(Point3::origin(), |acc, (_, c, _)| acc + c.coords / n);
+    let r = spheres.iter().map(|(_, p, r)| (p - c).norm() + r).fold(0.0, f64::max);
+    (c, r * (1.0 + 1e-9) + 1e-12)
+}
+
+/// Orders `spheres[s..e]` into clusters of at most [`CLUSTER`] by median splits along the
+/// widest axis, appending their ranges to `out`.
+fn split(spheres: &mut [(usize, Point3<f64>, f64)], s: usize, e: usize, out: &mut Vec<(usize, usize)>) {
+    if e - s <= CLUSTER {
+        if e > s {
+            out.push((s, e));
+        }
+        return;
+    }
+    let part = &mut spheres[s..e];
+    let lo = part.iter().fold(Point3::from([f64::INFINITY; 3]), |a, p| a.inf(&p.1));
+    let hi = part.iter().fold(Point3::from([f64::NEG_INFINITY; 3]), |a, p| a.sup(&p.1));
+    let axis = (hi - lo).imax();
+    part.sort_by(|a, b| a.1[axis].total_cmp(&b.1[axis]));
+    let mid = s + (e - s) / 2;
+    split(spheres, s, mid, out);
+    split(spheres, mid, e, out);
 }
 
 /// `|a − b| − radii`.

@@ -61,6 +61,10 @@ pub struct SphereWorld {
     ranges: Vec<(usize, usize)>,
     links: Vec<LinkId>,
     pairs: Vec<(usize, usize)>,
+    /// The pairs with a moving link, checked per state; `fixed_ok`: the links fixed in the
+    /// world are clear of the obstacles and of each other (the state-independent part).
+    moving_pairs: Vec<(usize, usize)>,
+    fixed_ok: bool,
     /// How `pairs` was chosen, and link pairs allowed on top of the robot's.
     pair_mode: SelfCollisionPairs,
     allowed: Vec<(LinkId, LinkId)>,
@@ -202,6 +206,8 @@ impl SphereWorld {
             ranges,
             links,
             pairs: Vec::new(),
+            moving_pairs: Vec::new(),
+            fixed_ok: true,
             pair_mode: SelfCollisionPairs::default(),
             allowed: Vec::new(),
             boxes,
@@ -233,6 +239,7 @@ impl SphereWorld {
                 }
             }
         }
+        self.settle();
         self
     }
 
@@ -356,6 +363,24 @@ impl SphereWorld {
     fn rebuild(&mut self) {
         let link_frames: Vec<_> = self.links.iter().map(|&l| self.chain.link(l)).collect();
         self.soa = SphereSoa::new(&self.spheres, &self.ranges, &link_frames, frames(&self.obstacles));
+        self.settle();
+    }
+
+    /// Splits the checks into the state-independent part (links fixed in the world against
+    /// the obstacles and each other), evaluated once, and the pairs checked per state.
+    fn settle(&mut self) {
+        let fixed = |k: usize| self.soa.is_static(k);
+        self.moving_pairs = self.pairs.iter().copied().filter(|&(a, b)| !(fixed(a) && fixed(b))).collect();
+        let static_pairs_clear = with_scratch(|s| {
+            self.chain.frames(&vec![0.0; self.group.len()], &mut s.frames);
+            self.soa.begin(&s.frames, &mut s.centres);
+            let (frames, centres) = (&s.frames, &mut s.centres);
+            self.pairs
+                .iter()
+                .filter(|&&(a, b)| fixed(a) && fixed(b))
+                .all(|&(a, b)| self.soa.pair_clear(frames, centres, a, b))
+        });
+        self.fixed_ok = self.soa.static_free_of_obstacles() && static_pairs_clear;
     }
 
     /// The state check behind [`StateValidityChecker::is_valid`]: the compiled forward
@@ -365,8 +390,9 @@ impl SphereWorld {
         self.chain.frames(q, &mut s.frames);
         self.soa.begin(&s.frames, &mut s.centres);
         let (frames, centres) = (&s.frames, &mut s.centres);
-        self.soa.free_of_obstacles(frames, centres)
-            && self.pairs.iter().all(|&(a, b)| self.soa.pair_clear(frames, centres, a, b))
+        self.fixed_ok
+            && self.soa.free_of_obstacles(frames, centres)
+            && self.moving_pairs.iter().all(|&(a, b)| self.soa.pair_clear(frames, centres, a, b))
     }
 }
 
