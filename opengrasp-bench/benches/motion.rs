@@ -24,7 +24,6 @@ use opengrasp_motion::planners::{NeighborStructure, RrtConnect};
 use opengrasp_motion::problem_set::PlanningModel;
 use opengrasp_motion::smoothing::{repair, shortcut, ShortcutOptions};
 use opengrasp_motion::validity::cover::GreedyCoverOptions;
-use opengrasp_motion::validity::MeshCover;
 use opengrasp_motion::MotionPlanner;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -73,13 +72,13 @@ fn bench_scene(c: &mut Criterion, id: &str, scene: BenchmarkScene) {
 
 /// RRT-Connect planning time per MBM set, cycling over the set's problems (failures within
 /// the time limit are timed too), and one state check at the first problem's start: on the
-/// meshes (exact checker), and on the Panda's greedy sphere cover
-/// ([`MeshCover::Greedy`], default options; graded by the meshes in the runner), one state
-/// at a time and in batches of 64 random states.
+/// meshes (exact checker), and on the Panda's layered greedy sphere cover
+/// (`LoadedProblemSet::layered_sphere_model`, default options; graded by the meshes in the
+/// runner), one state at a time and in batches of 64 random states.
 fn mbm_panda(c: &mut Criterion) {
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../opengrasp-motion/tests/data/mbm/panda/problems");
     let sets = load_problem_sets(dir).expect("vendored MBM sets");
-    let spheres = Arc::new(sets[0].sphere_model(MeshCover::Greedy(GreedyCoverOptions::default())).expect("cover"));
+    let spheres = Arc::new(sets[0].layered_sphere_model(GreedyCoverOptions::default()).expect("cover"));
     let model = PlanningModel::Spheres(spheres);
     for set in &sets {
         let instances: Vec<_> =

@@ -26,7 +26,6 @@ use opengrasp_motion::benchmark::BenchmarkScene;
 use opengrasp_motion::planners::{IkRrt, Prm, PrmOptions, RrtConnect};
 use opengrasp_motion::problem_set::{self, LoadedProblemSet, PlanningModel};
 use opengrasp_motion::validity::cover::GreedyCoverOptions;
-use opengrasp_motion::validity::MeshCover;
 use opengrasp_motion::Goal;
 
 use crate::suite::Suite;
@@ -60,8 +59,8 @@ pub enum ProblemSetChecker {
     /// The exact checker (default).
     #[default]
     Exact,
-    /// The robot's guaranteed greedy sphere cover ([`MeshCover::Greedy`]) with the SRDF's
-    /// self-collision pairs; scenes are named `"<set> (spheres)"`.
+    /// The robot's guaranteed greedy sphere cover with the SRDF's self-collision pairs
+    /// ([`LoadedProblemSet::layered_sphere_model`]); scenes are named `"<set> (spheres)"`.
     Spheres(GreedyCoverOptions),
 }
 
@@ -114,9 +113,7 @@ impl Suite {
             .map(|set| {
                 let model = match checker {
                     ProblemSetChecker::Exact => PlanningModel::Exact,
-                    ProblemSetChecker::Spheres(o) => {
-                        PlanningModel::Spheres(Arc::new(set.sphere_model(MeshCover::Greedy(o))?))
-                    }
+                    ProblemSetChecker::Spheres(o) => PlanningModel::Spheres(Arc::new(set.layered_sphere_model(o)?)),
                 };
                 Ok((set, model))
             })

@@ -195,14 +195,11 @@ fn panda_sets() -> Vec<LoadedProblemSet> {
     problem_set::load(data()).unwrap().iter().map(|s| LoadedProblemSet::new(s).unwrap()).collect()
 }
 
-/// The Panda's sphere model under the default greedy cover, built once for the tests.
+/// The Panda's layered sphere model (default greedy cover, coarse cover tried first), built
+/// once for the tests.
 fn panda_model() -> Arc<SphereWorld> {
     static MODEL: OnceLock<Arc<SphereWorld>> = OnceLock::new();
-    MODEL
-        .get_or_init(|| {
-            Arc::new(panda_sets()[0].sphere_model(MeshCover::Greedy(GreedyCoverOptions::default())).unwrap())
-        })
-        .clone()
+    MODEL.get_or_init(|| Arc::new(panda_sets()[0].layered_sphere_model(GreedyCoverOptions::default()).unwrap())).clone()
 }
 
 /// The Panda's collision meshes under the default greedy cover: every surface point of every
@@ -226,19 +223,26 @@ fn panda_greedy_cover_covers_every_link_surface() {
             println!("{:15} {:7}  {:.1}", link.name, spheres.len(), overhang * 1e3);
         }
     }
-    println!("total {} spheres, max overhang {:.1} mm", world.sphere_count(), worst * 1e3);
+    println!(
+        "total {} spheres, max overhang {:.1} mm; coarse layer {} spheres",
+        world.sphere_count(),
+        worst * 1e3,
+        world.coarse_sphere_count().unwrap()
+    );
     assert!(worst <= GreedyCoverOptions::default().max_overhang + 1e-6, "{worst}");
     // A regression bound (the greedy cover gives about 700 at the default 10 mm budget).
     assert!(world.sphere_count() < 1000, "{} spheres", world.sphere_count());
 }
 
-/// RRT-Connect plans every vendored MBM problem on the sphere model, and every path passes the
-/// exact (mesh) validator at the planning step; the sphere model accepts no state the exact
-/// checker rejects (2,000 random states per problem).
+/// RRT-Connect plans every vendored MBM problem on the layered sphere model, and every path
+/// passes the exact (mesh) validator at the planning step; the sphere model accepts no state
+/// the exact checker rejects, and every state the fine cover alone accepts (2,000 random
+/// states per problem).
 #[test]
 fn panda_paths_planned_on_spheres_pass_the_exact_validators() {
     let mut solved = 0;
     let mut strict = 0;
+    let fine_model = panda_sets()[0].sphere_model(MeshCover::Greedy(GreedyCoverOptions::default())).unwrap();
     for set in panda_sets() {
         let model = PlanningModel::Spheres(panda_model());
         for i in 0..set.len() {
@@ -253,14 +257,21 @@ fn panda_paths_planned_on_spheres_pass_the_exact_validators() {
             solved += 1;
             let limits = inst.group.limits(&inst.robot);
             let mut rng = ChaCha8Rng::seed_from_u64(i as u64);
-            let mut accepted = 0;
+            let fine = set.sphere_world(i, &fine_model).unwrap();
+            let (mut accepted, mut by_fine) = (0, 0);
             for _ in 0..2000 {
                 let q: Vec<f64> = limits.iter().map(|l| rng.random_range(l.0..=l.1)).collect();
                 if spheres.is_valid(&q) {
                     accepted += 1;
                     assert!(inst.checker.is_valid(&q), "{} problem {i}: {q:?}", set.name());
                 }
+                // The coarse layer only ever adds acceptances.
+                if fine.is_valid(&q) {
+                    by_fine += 1;
+                    assert!(spheres.is_valid(&q), "{} problem {i}: {q:?}", set.name());
+                }
             }
+            assert!(accepted >= by_fine);
             assert!(accepted > 100, "{} problem {i}: the sphere model accepts only {accepted}", set.name());
         }
     }

@@ -13,6 +13,7 @@ use super::{Configuration, GoalSpec, PoseSpec, ProblemSet};
 use crate::benchmark::SceneInstance;
 use crate::error::{MotionError, Result};
 use crate::problem::{Goal, PoseGoal};
+use crate::validity::cover::GreedyCoverOptions;
 use crate::validity::{
     CollisionChecker, MeshCover, ObstaclePrimitive, ObstacleShape, SelfCollisionPairs, SphereWorld,
     StateValidityChecker,
@@ -292,6 +293,18 @@ impl LoadedProblemSet {
             cover,
         )?;
         Ok(world.with_self_collision(SelfCollisionPairs::Robot))
+    }
+
+    /// The set's robot as a layered sphere model for planning: the greedy cover of
+    /// `options` ([`MeshCover::Greedy`]), with a coarse greedy cover of three times its
+    /// overhang budget tried first ([`SphereWorld::with_coarse_cover`]); see
+    /// [`LoadedProblemSet::sphere_model`].
+    ///
+    /// # Errors
+    /// As [`LoadedProblemSet::sphere_model`].
+    pub fn layered_sphere_model(&self, options: GreedyCoverOptions) -> Result<SphereWorld> {
+        let coarse = GreedyCoverOptions { max_overhang: 3.0 * options.max_overhang, ..options };
+        self.sphere_model(MeshCover::Greedy(options))?.with_coarse_cover(MeshCover::Greedy(coarse))
     }
 
     /// Problem `i` in the sphere model `model` (from [`LoadedProblemSet::sphere_model`]):

@@ -134,6 +134,7 @@ pub(super) struct Centres {
 pub(super) struct Scratch {
     pub frames: Vec<Mat34>,
     pub centres: Centres,
+    pub coarse: Centres,
     pub q: Vec<f64>,
 }
 
@@ -271,29 +272,40 @@ impl SphereSoa {
     /// Links on frame 0 (fixed in the world) are skipped: see
     /// [`SphereSoa::static_free_of_obstacles`].
     pub fn free_of_obstacles(&self, frames: &[Mat34], c: &mut Centres) -> bool {
-        for o in &self.obstacles {
+        for o in 0..self.obstacles.len() {
             for k in 0..self.ranges.len() {
-                if self.frame[k] == 0 {
-                    continue;
+                if self.frame[k] != 0 && self.link_near(o, k, c) && !self.link_clear(o, k, frames, c) {
+                    return false;
                 }
-                let [lx, ly, lz] = c.link[k];
-                let d2 = (lx - o.t[0]).powi(2) + (ly - o.t[1]).powi(2) + (lz - o.t[2]).powi(2);
-                let reach = self.link_radius[k] + o.bound;
-                if d2 > reach * reach || o.signed_distance(lx, ly, lz) > self.link_radius[k] {
-                    continue;
-                }
-                self.ensure(frames, c, k);
-                let (cs, ce) = self.link_clusters[k];
-                for j in cs..ce {
-                    let [x, y, z] = c.cluster[j];
-                    if o.signed_distance(x, y, z) > self.cluster_radius[j] {
-                        continue;
-                    }
-                    let (s, e) = self.clusters[j];
-                    if o.any_hit(&c.x[s..e], &c.y[s..e], &c.z[s..e], &self.r[s..e]) {
-                        return false;
-                    }
-                }
+            }
+        }
+        true
+    }
+
+    /// False if link `k`'s bounding sphere is clear of obstacle `o` (after
+    /// [`SphereSoa::begin`]).
+    #[inline]
+    pub fn link_near(&self, o: usize, k: usize, c: &Centres) -> bool {
+        let o = &self.obstacles[o];
+        let [lx, ly, lz] = c.link[k];
+        let d2 = (lx - o.t[0]).powi(2) + (ly - o.t[1]).powi(2) + (lz - o.t[2]).powi(2);
+        let reach = self.link_radius[k] + o.bound;
+        d2 <= reach * reach && o.signed_distance(lx, ly, lz) <= self.link_radius[k]
+    }
+
+    /// True if no sphere of link `k` touches obstacle `o`, clusters culled first.
+    pub fn link_clear(&self, o: usize, k: usize, frames: &[Mat34], c: &mut Centres) -> bool {
+        self.ensure(frames, c, k);
+        let o = &self.obstacles[o];
+        let (cs, ce) = self.link_clusters[k];
+        for j in cs..ce {
+            let [x, y, z] = c.cluster[j];
+            if o.signed_distance(x, y, z) > self.cluster_radius[j] {
+                continue;
+            }
+            let (s, e) = self.clusters[j];
+            if o.any_hit(&c.x[s..e], &c.y[s..e], &c.z[s..e], &self.r[s..e]) {
+                return false;
             }
         }
         true

@@ -76,6 +76,8 @@ pub struct SphereWorld {
     chain: Chain,
     /// The same spheres as `spheres`, struct of arrays in chain frames, for the state checks.
     soa: SphereSoa,
+    /// A coarser cover of the same links, tried first ([`SphereWorld::with_coarse_cover`]).
+    coarse: Option<(Arc<Covered>, SphereSoa)>,
 }
 
 /// How a [`SphereWorld`] covers mesh collision shapes (other shapes have closed-form covers).
@@ -164,34 +166,7 @@ impl SphereWorld {
         meshes: MeshCover,
     ) -> Result<Self> {
         robot.validate_configuration(&q_full)?;
-        let mut links = Vec::new();
-        let mut spheres = Vec::new();
-        let mut ranges = Vec::new();
-        let mut points = Vec::new();
-        let mut buf = Vec::new();
-        for (i, link) in robot.links().iter().enumerate() {
-            if link.collisions.is_empty() {
-                continue;
-            }
-            buf.clear();
-            for shape in &link.collisions {
-                cover_shape(&shape.geometry, &shape.origin, meshes, &mut buf)?;
-            }
-            let k = links.len();
-            let start = spheres.len();
-            let mut pts = Vec::new();
-            for &(c, r) in &buf {
-                spheres.push((k, c, r));
-                // The sphere's bounding-box corners contain it.
-                for s in 0..8 {
-                    let sign = |b: usize| if s & b == 0 { -r } else { r };
-                    pts.push(c + Vector3::new(sign(1), sign(2), sign(4)));
-                }
-            }
-            ranges.push((start, spheres.len()));
-            links.push(LinkId(i));
-            points.push(pts);
-        }
+        let Covered { links, spheres, ranges, points } = Covered::new(&robot, meshes)?;
         let bound = MotionBound::new(&robot, &group, &links, &points)?;
         let obstacles: Vec<ObstaclePrimitive> = boxes.iter().cloned().map(ObstaclePrimitive::from).collect();
         let chain = Chain::new(&robot, &group, &q_full, &base_pose);
@@ -215,6 +190,7 @@ impl SphereWorld {
             bound,
             chain,
             soa,
+            coarse: None,
         };
         Ok(world.with_self_collision(SelfCollisionPairs::default()))
     }
@@ -305,6 +281,10 @@ impl SphereWorld {
     pub fn sphere_count(&self) -> usize {
         self.spheres.len()
     }
+    /// Number of spheres of the coarse cover ([`SphereWorld::with_coarse_cover`]), if any.
+    pub fn coarse_sphere_count(&self) -> Option<usize> {
+        self.coarse.as_ref().map(|(c, _)| c.spheres.len())
+    }
     /// Link pairs checked for self-collision.
     pub fn self_collision_pairs(&self) -> Vec<(LinkId, LinkId)> {
         self.pairs.iter().map(|&(a, b)| (self.links[a], self.links[b])).collect()
@@ -354,6 +334,48 @@ impl SphereWorld {
     }
 }
 
+/// Every link with collision geometry covered by spheres.
+#[derive(Debug)]
+struct Covered {
+    links: Vec<LinkId>,
+    /// (index into `links`, centre in the link frame, radius), grouped by link.
+    spheres: Vec<(usize, Point3<f64>, f64)>,
+    ranges: Vec<(usize, usize)>,
+    /// Per link, points whose hull holds its spheres (for the motion bound).
+    points: Vec<Vec<Point3<f64>>>,
+}
+
+impl Covered {
+    fn new(robot: &Robot, meshes: MeshCover) -> Result<Self> {
+        let mut this = Self { links: Vec::new(), spheres: Vec::new(), ranges: Vec::new(), points: Vec::new() };
+        let mut buf = Vec::new();
+        for (i, link) in robot.links().iter().enumerate() {
+            if link.collisions.is_empty() {
+                continue;
+            }
+            buf.clear();
+            for shape in &link.collisions {
+                cover_shape(&shape.geometry, &shape.origin, meshes, &mut buf)?;
+            }
+            let k = this.links.len();
+            let start = this.spheres.len();
+            let mut pts = Vec::new();
+            for &(c, r) in &buf {
+                this.spheres.push((k, c, r));
+                // The sphere's bounding-box corners contain it.
+                for s in 0..8 {
+                    let sign = |b: usize| if s & b == 0 { -r } else { r };
+                    pts.push(c + Vector3::new(sign(1), sign(2), sign(4)));
+                }
+            }
+            this.ranges.push((start, this.spheres.len()));
+            this.links.push(LinkId(i));
+            this.points.push(pts);
+        }
+        Ok(this)
+    }
+}
+
 fn frames(obstacles: &[ObstaclePrimitive]) -> Vec<ObstacleFrame> {
     obstacles.iter().map(|o| ObstacleFrame::new(&o.pose, o.shape)).collect()
 }
@@ -363,7 +385,28 @@ impl SphereWorld {
     fn rebuild(&mut self) {
         let link_frames: Vec<_> = self.links.iter().map(|&l| self.chain.link(l)).collect();
         self.soa = SphereSoa::new(&self.spheres, &self.ranges, &link_frames, frames(&self.obstacles));
+        if let Some((cover, _)) = self.coarse.take() {
+            let soa = SphereSoa::new(&cover.spheres, &cover.ranges, &link_frames, frames(&self.obstacles));
+            self.coarse = Some((cover, soa));
+        }
         self.settle();
+    }
+
+    /// This world with a second, coarser cover of the same links (e.g. a greedy cover with a
+    /// larger overhang budget) tried first: a link is clear of an obstacle or of another link
+    /// when either cover says so. Both covers hold every surface point, so the verdicts stay
+    /// conservative, and are never stricter than this cover's alone; the coarse cover's few
+    /// spheres settle most tests.
+    ///
+    /// # Errors
+    /// As [`SphereWorld::with_mesh_cover`] for the cover.
+    pub fn with_coarse_cover(mut self, meshes: MeshCover) -> Result<Self> {
+        let cover = Covered::new(&self.robot, meshes)?;
+        // Same robot, same links with geometry.
+        debug_assert_eq!(cover.links, self.links);
+        self.coarse = Some((Arc::new(cover), SphereSoa::new(&[], &[], &[], Vec::new())));
+        self.rebuild();
+        Ok(self)
     }
 
     /// Splits the checks into the state-independent part (links fixed in the world against
@@ -387,12 +430,31 @@ impl SphereWorld {
     /// kinematics, the sphere centres as struct-of-arrays, then obstacles and self-collision
     /// pairs, each culled by the link's bounding sphere first.
     fn check_state(&self, q: &[f64], s: &mut Scratch) -> bool {
+        if !self.fixed_ok {
+            return false;
+        }
         self.chain.frames(q, &mut s.frames);
         self.soa.begin(&s.frames, &mut s.centres);
-        let (frames, centres) = (&s.frames, &mut s.centres);
-        self.fixed_ok
-            && self.soa.free_of_obstacles(frames, centres)
-            && self.moving_pairs.iter().all(|&(a, b)| self.soa.pair_clear(frames, centres, a, b))
+        let (frames, fine) = (&s.frames, &mut s.centres);
+        let Some((_, coarse)) = &self.coarse else {
+            return self.soa.free_of_obstacles(frames, fine)
+                && self.moving_pairs.iter().all(|&(a, b)| self.soa.pair_clear(frames, fine, a, b));
+        };
+        coarse.begin(frames, &mut s.coarse);
+        let rough = &mut s.coarse;
+        for o in 0..self.obstacles.len() {
+            for k in 0..self.links.len() {
+                if self.soa.is_static(k) || !self.soa.link_near(o, k, fine) {
+                    continue;
+                }
+                if !coarse.link_clear(o, k, frames, rough) && !self.soa.link_clear(o, k, frames, fine) {
+                    return false;
+                }
+            }
+        }
+        self.moving_pairs
+            .iter()
+            .all(|&(a, b)| coarse.pair_clear(frames, rough, a, b) || self.soa.pair_clear(frames, fine, a, b))
     }
 }
 
