@@ -6,7 +6,7 @@ use nalgebra::{Isometry3, Point3, Vector3};
 use super::soa::ObstacleFrame;
 use crate::error::{MotionError, Result};
 
-/// An oriented box obstacle of a [`SphereWorld`].
+/// An oriented box obstacle of a [`SphereWorld`](super::SphereWorld).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ObstacleBox {
     /// Name, for reports.
