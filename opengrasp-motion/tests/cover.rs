@@ -2,7 +2,6 @@
 //! cover's overhang shrinks with its cell, against the bounding-box grid cover; spherized URDFs
 //! become the sphere model directly.
 
-use std::f64::consts::TAU;
 use std::sync::Arc;
 
 use nalgebra::{Isometry3, Point3, UnitQuaternion, Vector3};
@@ -16,24 +15,11 @@ use opengrasp_motion::validity::cover::{
 use opengrasp_motion::validity::{CollisionChecker, MeshCover, ObstacleBox, SphereWorld, StateValidityChecker};
 use opengrasp_motion::MotionError;
 use proptest::prelude::*;
+
+mod common;
+use common::{cylinder, soup};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-
-/// A closed cylinder of radius `r` and length `l` along z, `n` facets around.
-fn cylinder(r: f64, l: f64, n: u32) -> TriangleMesh {
-    let mut v = vec![Point3::new(0.0, 0.0, -l / 2.0), Point3::new(0.0, 0.0, l / 2.0)];
-    for i in 0..n {
-        let a = TAU * f64::from(i) / f64::from(n);
-        v.push(Point3::new(r * a.cos(), r * a.sin(), -l / 2.0));
-        v.push(Point3::new(r * a.cos(), r * a.sin(), l / 2.0));
-    }
-    let mut t = Vec::new();
-    for i in 0..n {
-        let (b0, t0, b1, t1) = (2 + 2 * i, 3 + 2 * i, 2 + 2 * ((i + 1) % n), 3 + 2 * ((i + 1) % n));
-        t.extend([[0, b1, b0], [1, t0, t1], [b0, b1, t1], [b0, t1, t0]]);
-    }
-    TriangleMesh::new(v, t).unwrap()
-}
 
 /// `n` uniform points on the surface (area-weighted triangle, uniform barycentric).
 fn surface_samples(mesh: &TriangleMesh, n: usize, seed: u64) -> Vec<Point3<f64>> {
@@ -74,19 +60,9 @@ proptest! {
         cell in 0.01f64..0.4,
         seed in 0u64..1000,
     ) {
-        let shift = Vector3::new(offset.0, offset.1, offset.2);
-        let mut vertices = Vec::new();
-        let mut triangles = Vec::new();
-        for (a, b, c) in &tris {
-            if (b - a).cross(&(c - a)).norm() < 1e-6 {
-                continue;
-            }
-            let k = vertices.len() as u32;
-            vertices.extend([a + shift, b + shift, c + shift]);
-            triangles.push([k, k + 1, k + 2]);
-        }
-        prop_assume!(!triangles.is_empty());
-        let mesh = TriangleMesh::new(vertices, triangles).unwrap();
+        let mesh = soup(&tris, Vector3::new(offset.0, offset.1, offset.2));
+        prop_assume!(mesh.is_some());
+        let mesh = mesh.unwrap();
         let cover = voxel_cover(&mesh, cell).unwrap();
         prop_assert!(uncovered(&cover, &mesh, seed).is_empty());
         // Every kept cell meets the bounding box of a surface piece no wider than the cell:

@@ -2,7 +2,6 @@
 //! sphere), closed-form primitive obstacles, and the MotionBenchMaker Panda planned on spheres
 //! with paths that pass the exact validators.
 
-use std::f64::consts::TAU;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, OnceLock};
 use std::time::Duration;
@@ -18,27 +17,14 @@ use opengrasp_motion::validity::{
 };
 use opengrasp_motion::{MotionError, MotionPlanner};
 use proptest::prelude::*;
+
+mod common;
+use common::{cylinder, soup};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 fn data() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/mbm/panda/problems")
-}
-
-/// A closed cylinder of radius `r` and length `l` along z, `n` facets around (outward).
-fn cylinder(r: f64, l: f64, n: u32) -> TriangleMesh {
-    let mut v = vec![Point3::new(0.0, 0.0, -l / 2.0), Point3::new(0.0, 0.0, l / 2.0)];
-    for i in 0..n {
-        let a = TAU * f64::from(i) / f64::from(n);
-        v.push(Point3::new(r * a.cos(), r * a.sin(), -l / 2.0));
-        v.push(Point3::new(r * a.cos(), r * a.sin(), l / 2.0));
-    }
-    let mut t = Vec::new();
-    for i in 0..n {
-        let (b0, t0, b1, t1) = (2 + 2 * i, 3 + 2 * i, 2 + 2 * ((i + 1) % n), 3 + 2 * ((i + 1) % n));
-        t.extend([[0, b1, b0], [1, t0, t1], [b0, b1, t1], [b0, t1, t0]]);
-    }
-    TriangleMesh::new(v, t).unwrap()
 }
 
 /// Every corner plus `n` area-uniform points of the surface that no sphere contains.
@@ -89,19 +75,9 @@ proptest! {
         budget in 0.0f64..0.1,
         seed in 0u64..1000,
     ) {
-        let shift = Vector3::new(offset.0, offset.1, offset.2);
-        let mut vertices = Vec::new();
-        let mut triangles = Vec::new();
-        for (a, b, c) in &tris {
-            if (b - a).cross(&(c - a)).norm() < 1e-6 {
-                continue;
-            }
-            let k = vertices.len() as u32;
-            vertices.extend([a + shift, b + shift, c + shift]);
-            triangles.push([k, k + 1, k + 2]);
-        }
-        prop_assume!(!triangles.is_empty());
-        let mesh = TriangleMesh::new(vertices, triangles).unwrap();
+        let mesh = soup(&tris, Vector3::new(offset.0, offset.1, offset.2));
+        prop_assume!(mesh.is_some());
+        let mesh = mesh.unwrap();
         let options = GreedyCoverOptions { piece, grid, max_overhang: budget };
         let cover = greedy_cover(&mesh, &options).unwrap();
         prop_assert!(uncovered(&cover, &mesh, 2000, seed).is_empty());
