@@ -4,9 +4,10 @@
 
 use std::path::PathBuf;
 
-use opengrasp_bench::problem_sets::{load_problem_sets, problem_set_scene};
+use opengrasp_bench::problem_sets::{load_problem_sets, problem_set_scene, ProblemSetChecker};
 use opengrasp_bench::suite::Suite;
 use opengrasp_motion::benchmark::RunStatus;
+use opengrasp_motion::validity::cover::GreedyCoverOptions;
 use opengrasp_motion::Goal;
 
 fn table_pick() -> PathBuf {
@@ -74,4 +75,31 @@ fn runs_default_to_the_largest_set_and_every_planner_runs() {
     assert_eq!(planners.into_iter().collect::<Vec<_>>(), ["PRM", "RRT-Connect"], "IK-RRT only on pose goals");
     assert_eq!(motion.runs.len(), 2 * 3, "3 runs per planner: the set's size");
     assert!(motion.runs.iter().all(|r| r.status == RunStatus::Solved));
+}
+
+/// `--checker spheres`: RRT-Connect plans on the Panda's sphere model (fewer checks' worth of
+/// time), and the exact validators grade the paths: every planned and post-processed path
+/// valid under the meshes.
+#[test]
+fn problem_sets_planned_on_spheres_are_graded_by_the_meshes() {
+    let sets = load_problem_sets(table_pick()).unwrap();
+    let suite = Suite::new()
+        .seed(3)
+        .with_problem_sets_checked_by(sets, 3, ProblemSetChecker::Spheres(GreedyCoverOptions::default()))
+        .unwrap()
+        .retain_planners(&["RRT-Connect".to_string()])
+        .unwrap()
+        .runs(5)
+        .jobs(1);
+    let results = suite.run().unwrap();
+    let motion = results.motion.as_ref().unwrap();
+    assert_eq!(motion.runs.len(), 5);
+    for r in &motion.runs {
+        assert_eq!(r.scene, "table_pick_panda (spheres)");
+        assert_eq!(r.status, RunStatus::Solved, "run {}: {:?}", r.run, r.message);
+        let planned = r.planned.as_ref().unwrap();
+        assert!(planned.validity.discrete, "run {}: the sphere model's path fails the meshes", r.run);
+        let processed = r.processed.as_ref().unwrap();
+        assert!(processed.validity.discrete && processed.validity.strict, "run {}", r.run);
+    }
 }
