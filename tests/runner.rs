@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Parser;
 use opengrasp::bench::stock::{resolve_object, stock_hand, stock_object};
-use opengrasp::cli::{self, Cli, Command, FormatArg, ListWhat, PlotFormatArg, RunArgs, SizeArg, Which};
+use opengrasp::cli::{self, CheckerArg, Cli, Command, FormatArg, ListWhat, PlotFormatArg, RunArgs, SizeArg, Which};
 use opengrasp::grasp::benchmark::CellResult;
 use opengrasp::motion::benchmark::{BenchmarkOptions, PathReport, RunRecord, RunStatus};
 use opengrasp::motion::metrics::PathMetrics;
@@ -578,6 +578,18 @@ fn command_line_parses() {
     ));
     assert!(Cli::try_parse_from(["opengrasp", "highscore", "grasp/barrett"]).is_ok());
     assert!(Cli::try_parse_from(["opengrasp", "serve", "--addr", "127.0.0.1:0"]).is_ok());
+    match Cli::try_parse_from(["opengrasp", "run", "motion", "--problems", "d", "--checker", "spheres"])
+        .unwrap()
+        .command
+    {
+        Command::Run(a) => assert_eq!((a.problems, a.checker), (vec![PathBuf::from("d")], CheckerArg::Spheres)),
+        other => panic!("parsed {other:?}"),
+    }
+    assert!(matches!(
+        Cli::try_parse_from(["opengrasp", "run", "motion"]).unwrap().command,
+        Command::Run(a) if a.checker == CheckerArg::Exact
+    ));
+    assert!(Cli::try_parse_from(["opengrasp", "run", "motion", "--checker", "boxes"]).is_err());
     assert!(Cli::try_parse_from(["opengrasp", "run", "everything"]).is_err());
     assert!(Cli::try_parse_from(["opengrasp", "run", "grasp", "--runs", "many"]).is_err());
     assert!(Cli::try_parse_from(["opengrasp", "report", "r.json", "--format", "xml"]).is_err());
