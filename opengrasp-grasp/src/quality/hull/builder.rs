@@ -49,22 +49,86 @@ pub(super) fn initial_simplex(d: usize, pts: &[f64], unique: &[usize], scale: f6
     Ok(simplex)
 }
 
-/// Quickhull state on the joggled points (facets stored flat, `d` entries per facet).
-pub(super) struct Builder<'a> {
-    d: usize,
-    pts: &'a [f64],
-    center: Vec<f64>,
+/// End of an outside-point list.
+const NONE: u32 = u32::MAX;
+
+/// The growable arrays of a [`Builder`], kept per thread between builds so a hull of a few
+/// thousand facets does not allocate (and page-fault) its megabyte of storage every time.
+#[derive(Default)]
+struct Storage {
     verts: Vec<usize>,
     nbrs: Vec<usize>,
     normals: Vec<f64>,
     offsets: Vec<f64>,
     alive: Vec<bool>,
-    /// Outside points of each facet with their distance above it.
-    outside: Vec<Vec<(usize, f64)>>,
+    /// First and last entry of each facet's outside list in `entries`.
+    head: Vec<u32>,
+    tail: Vec<u32>,
+    /// The farthest outside point of each facet (the last one of the largest distance, the
+    /// choice `Iterator::max_by` makes over the list).
+    farthest: Vec<(usize, f64)>,
+    /// Outside-list entries: (point, next entry).
+    entries: Vec<(u32, u32)>,
+    // Per-iteration scratch of the main loop.
+    stamp: Vec<u32>,
+    state: Vec<u8>,
+    apex_dist: Vec<f64>,
+    visible: Vec<usize>,
+    horizon: Vec<(usize, usize)>,
+    ridges: Vec<(u64, usize, usize)>,
+    table: Vec<(u64, usize, usize)>,
+    zobrist: Vec<u64>,
+}
+
+impl Storage {
+    fn clear(&mut self) {
+        self.verts.clear();
+        self.nbrs.clear();
+        self.normals.clear();
+        self.offsets.clear();
+        self.alive.clear();
+        self.head.clear();
+        self.tail.clear();
+        self.farthest.clear();
+        self.entries.clear();
+        self.stamp.clear();
+        self.state.clear();
+        self.apex_dist.clear();
+    }
+}
+
+thread_local! {
+    static STORAGE: std::cell::RefCell<Storage> = std::cell::RefCell::default();
+}
+
+/// Quickhull state on the joggled points (facets stored flat, `d` entries per facet).
+///
+/// The construction (order of apexes, facets, planes and outside sets) is exactly that of
+/// the previous builder kept in `super::reference`; only the bookkeeping is cheaper: outside
+/// sets are linked lists in one arena with the farthest point tracked on insertion, the
+/// storage is reused per thread, and the points are handed to new facets by a scan over
+/// their contiguous planes.
+pub(super) struct Builder<'a> {
+    d: usize,
+    pts: &'a [f64],
+    center: Vec<f64>,
+    s: Storage,
     eps: f64,
     scale: f64,
     qr: Vec<f64>,
     vnorm: Vec<f64>,
+}
+
+impl Drop for Builder<'_> {
+    fn drop(&mut self) {
+        let s = std::mem::take(&mut self.s);
+        // Ignore a thread being torn down (the storage is then simply freed).
+        let _ = STORAGE.try_with(|cell| {
+            if let Ok(mut slot) = cell.try_borrow_mut() {
+                *slot = s;
+            }
+        });
+    }
 }
 
 impl<'a> Builder<'a> {
@@ -81,27 +145,19 @@ impl<'a> Builder<'a> {
                 *c += x / (d + 1) as f64;
             }
         }
-        // Facets created: a few dozen per point in 6-D; vectors grow beyond if needed.
-        let capacity = 16 * d * unique.len();
-        let mut b = Builder {
-            d,
-            pts,
-            center,
-            verts: Vec::with_capacity(capacity * d),
-            nbrs: Vec::with_capacity(capacity * d),
-            normals: Vec::with_capacity(capacity * d),
-            offsets: Vec::with_capacity(capacity),
-            alive: Vec::with_capacity(capacity),
-            outside: Vec::with_capacity(capacity),
-            eps: 1e-13 * scale,
-            scale,
-            qr: vec![0.0; d * d],
-            vnorm: vec![0.0; d],
-        };
+        let mut s = STORAGE
+            .try_with(|cell| cell.try_borrow_mut().map(|mut s| std::mem::take(&mut *s)).unwrap_or_default())
+            .unwrap_or_default();
+        s.clear();
+        let mut b = Builder { d, pts, center, s, eps: 1e-13 * scale, scale, qr: vec![0.0; d * d], vnorm: vec![0.0; d] };
         // Initial simplex: facet j omits simplex[j]; its neighbour opposite simplex[k] is facet k.
+        let mut vs: Vec<usize> = Vec::with_capacity(d);
+        let mut ns: Vec<usize> = Vec::with_capacity(d);
         for j in 0..=d {
-            let vs: Vec<usize> = simplex.iter().enumerate().filter(|&(k, _)| k != j).map(|(_, &v)| v).collect();
-            let ns: Vec<usize> = (0..=d).filter(|&k| k != j).collect();
+            vs.clear();
+            vs.extend(simplex.iter().enumerate().filter(|&(k, _)| k != j).map(|(_, &v)| v));
+            ns.clear();
+            ns.extend((0..=d).filter(|&k| k != j));
             b.add_facet(&vs, &ns, None)?;
         }
         for &i in unique {
@@ -111,144 +167,202 @@ impl<'a> Builder<'a> {
             for f in 0..=d {
                 let h = b.dist(f, i);
                 if h > b.eps {
-                    b.outside[f].push((i, h));
+                    b.push_outside(f, i, h);
                     break;
                 }
             }
         }
-        let mut stack: Vec<usize> = (0..=d).filter(|&f| !b.outside[f].is_empty()).collect();
-        let mut stamp = vec![0u32; 0];
-        let mut state = vec![0u8; 0];
-        let mut apex_dist = vec![0.0f64; 0];
+        let mut stack: Vec<usize> = (0..=d).filter(|&f| b.s.head[f] != NONE).collect();
         let mut iteration = 0u32;
-        let mut visible = Vec::new();
-        let mut horizon: Vec<(usize, usize)> = Vec::new();
-        let mut ridges: Vec<(u64, usize, usize)> = Vec::new();
-        let mut table: Vec<(u64, usize, usize)> = Vec::new();
         const PAIRED: usize = usize::MAX - 1;
         let mut rng = ChaCha8Rng::seed_from_u64(0x5eed);
-        let zobrist: Vec<u64> = (0..pts.len() / d).map(|_| rng.random()).collect();
-        let mut new_facets = Vec::new();
+        let mut zobrist = std::mem::take(&mut b.s.zobrist);
+        zobrist.clear();
+        zobrist.extend((0..pts.len() / d).map(|_| rng.random::<u64>()));
+        let mut visible = std::mem::take(&mut b.s.visible);
+        let mut horizon = std::mem::take(&mut b.s.horizon);
+        let mut ridges = std::mem::take(&mut b.s.ridges);
+        let mut table = std::mem::take(&mut b.s.table);
         let mut vs = vec![0; d];
         let mut ns = vec![usize::MAX; d];
-        while let Some(f0) = stack.pop() {
-            if !b.alive[f0] || b.outside[f0].is_empty() {
-                continue;
-            }
-            iteration += 1;
-            let apex = b.outside[f0].iter().max_by(|x, y| x.1.total_cmp(&y.1)).map_or(usize::MAX, |x| x.0);
-            // Breadth-first search of the facets visible from the apex.
-            stamp.resize(b.alive.len(), 0);
-            state.resize(b.alive.len(), 0);
-            apex_dist.resize(b.alive.len(), 0.0);
-            visible.clear();
-            horizon.clear();
-            visible.push(f0);
-            stamp[f0] = iteration;
-            state[f0] = 1;
-            apex_dist[f0] = b.dist(f0, apex);
-            let mut head = 0;
-            while head < visible.len() {
-                let f = visible[head];
-                head += 1;
-                for i in 0..d {
-                    let g = b.nbrs[f * d + i];
-                    if stamp[g] != iteration {
-                        stamp[g] = iteration;
-                        apex_dist[g] = b.dist(g, apex);
-                        state[g] = if apex_dist[g] > b.eps { 1 } else { 2 };
-                        if state[g] == 1 {
-                            visible.push(g);
+        let result = (|| {
+            while let Some(f0) = stack.pop() {
+                if !b.s.alive[f0] || b.s.head[f0] == NONE {
+                    continue;
+                }
+                iteration += 1;
+                let apex = b.s.farthest[f0].0;
+                // Breadth-first search of the facets visible from the apex.
+                let nf_total = b.s.alive.len();
+                b.s.stamp.resize(nf_total, 0);
+                b.s.state.resize(nf_total, 0);
+                b.s.apex_dist.resize(nf_total, 0.0);
+                visible.clear();
+                horizon.clear();
+                visible.push(f0);
+                b.s.stamp[f0] = iteration;
+                b.s.state[f0] = 1;
+                b.s.apex_dist[f0] = b.dist(f0, apex);
+                let mut head = 0;
+                while head < visible.len() {
+                    let f = visible[head];
+                    head += 1;
+                    for i in 0..d {
+                        let g = b.s.nbrs[f * d + i];
+                        if b.s.stamp[g] != iteration {
+                            b.s.stamp[g] = iteration;
+                            let h = b.dist(g, apex);
+                            b.s.apex_dist[g] = h;
+                            b.s.state[g] = if h > b.eps { 1 } else { 2 };
+                            if b.s.state[g] == 1 {
+                                visible.push(g);
+                            }
+                        }
+                        if b.s.state[g] == 2 {
+                            horizon.push((f, i));
                         }
                     }
-                    if state[g] == 2 {
-                        horizon.push((f, i));
+                }
+                // Cone of new facets over the horizon; they get the contiguous indices
+                // first_new.. in horizon order.
+                let first_new = b.s.offsets.len();
+                for (k, &(f, i)) in horizon.iter().enumerate() {
+                    vs.copy_from_slice(&b.s.verts[f * d..(f + 1) * d]);
+                    vs[i] = apex;
+                    let other = b.s.nbrs[f * d + i];
+                    ns.iter_mut().for_each(|x| *x = usize::MAX);
+                    ns[i] = other;
+                    let cone = Some((f, other, apex, b.s.apex_dist[f], b.s.apex_dist[other]));
+                    let nf = b.add_facet(&vs, &ns, cone)?;
+                    debug_assert_eq!(nf, first_new + k);
+                    let back = (0..d).find(|&j| b.s.nbrs[other * d + j] == f).ok_or("broken neighbour link")?;
+                    b.s.nbrs[other * d + back] = nf;
+                }
+                let new_facets = first_new..b.s.offsets.len();
+                // Pair the new facets' ridges through the apex: a ridge's key is the
+                // order-independent (Zobrist) hash of its vertices (64-bit, collisions are
+                // astronomically unlikely and would fail the final verification).
+                ridges.clear();
+                for (&(_, i), nf) in horizon.iter().zip(new_facets.clone()) {
+                    let vs = &b.s.verts[nf * d..(nf + 1) * d];
+                    let h = vs.iter().fold(0u64, |h, &v| h.wrapping_add(zobrist[v]));
+                    for k in (0..d).filter(|&k| k != i) {
+                        ridges.push((h.wrapping_sub(zobrist[vs[k]]), nf, k));
                     }
                 }
-            }
-            // Cone of new facets over the horizon.
-            new_facets.clear();
-            for &(f, i) in &horizon {
-                vs.copy_from_slice(&b.verts[f * d..(f + 1) * d]);
-                vs[i] = apex;
-                let other = b.nbrs[f * d + i];
-                ns.iter_mut().for_each(|x| *x = usize::MAX);
-                ns[i] = other;
-                let nf = b.add_facet(&vs, &ns, Some((f, other, apex, apex_dist[f], apex_dist[other])))?;
-                let back = (0..d).find(|&j| b.nbrs[other * d + j] == f).ok_or("broken neighbour link")?;
-                b.nbrs[other * d + back] = nf;
-                new_facets.push((nf, i));
-            }
-            // Pair the new facets' ridges through the apex: a ridge's key is the
-            // order-independent (Zobrist) hash of its vertices (64-bit, collisions are
-            // astronomically unlikely and would fail the final verification).
-            ridges.clear();
-            for &(nf, i) in &new_facets {
-                let vs = &b.verts[nf * d..(nf + 1) * d];
-                let h = vs.iter().fold(0u64, |h, &v| h.wrapping_add(zobrist[v]));
-                for k in (0..d).filter(|&k| k != i) {
-                    ridges.push((h.wrapping_sub(zobrist[vs[k]]), nf, k));
-                }
-            }
-            // Open-addressing table keyed by the ridge hash; each key must occur twice.
-            let size = (2 * ridges.len()).next_power_of_two();
-            table.clear();
-            table.resize(size, (0, usize::MAX, 0));
-            let mut unpaired = 0usize;
-            for &(h, fa, ka) in &ridges {
-                let mut slot = (h as usize) & (size - 1);
-                loop {
-                    let (hb, fb, kb) = table[slot];
-                    if fb == usize::MAX {
-                        table[slot] = (h, fa, ka);
-                        unpaired += 1;
-                        break;
-                    }
-                    if hb == h && fb != PAIRED {
-                        b.nbrs[fa * d + ka] = fb;
-                        b.nbrs[fb * d + kb] = fa;
-                        table[slot].1 = PAIRED;
-                        unpaired -= 1;
-                        break;
-                    }
-                    slot = (slot + 1) & (size - 1);
-                }
-            }
-            if unpaired != 0 {
-                return Err("horizon ridges do not pair up".into());
-            }
-            // Reassign the outside points of the visible facets.
-            for &f in &visible {
-                b.alive[f] = false;
-                let pts_f = std::mem::take(&mut b.outside[f]);
-                for &(q, _) in &pts_f {
-                    if q == apex {
-                        continue;
-                    }
-                    for &(nf, _) in &new_facets {
-                        let h = b.dist(nf, q);
-                        if h > b.eps {
-                            b.outside[nf].push((q, h));
+                // Open-addressing table keyed by the ridge hash; each key must occur twice.
+                let size = (2 * ridges.len()).next_power_of_two();
+                table.clear();
+                table.resize(size, (0, usize::MAX, 0));
+                let mut unpaired = 0usize;
+                for &(h, fa, ka) in &ridges {
+                    let mut slot = (h as usize) & (size - 1);
+                    loop {
+                        let (hb, fb, kb) = table[slot];
+                        if fb == usize::MAX {
+                            table[slot] = (h, fa, ka);
+                            unpaired += 1;
                             break;
                         }
+                        if hb == h && fb != PAIRED {
+                            b.s.nbrs[fa * d + ka] = fb;
+                            b.s.nbrs[fb * d + kb] = fa;
+                            table[slot].1 = PAIRED;
+                            unpaired -= 1;
+                            break;
+                        }
+                        slot = (slot + 1) & (size - 1);
+                    }
+                }
+                if unpaired != 0 {
+                    return Err("horizon ridges do not pair up".to_string());
+                }
+                // Hand the outside points of the visible facets to the first new facet
+                // they are above (in creation order).
+                for &f in &visible {
+                    b.s.alive[f] = false;
+                    let mut e = b.s.head[f];
+                    b.s.head[f] = NONE;
+                    while e != NONE {
+                        let (q, next) = b.s.entries[e as usize];
+                        e = next;
+                        let q = q as usize;
+                        if q == apex {
+                            continue;
+                        }
+                        if let Some((nf, h)) = b.first_above(new_facets.clone(), q) {
+                            b.push_outside(nf, q, h);
+                        }
+                    }
+                }
+                for nf in new_facets {
+                    if b.s.head[nf] != NONE {
+                        stack.push(nf);
                     }
                 }
             }
-            for &(nf, _) in &new_facets {
-                if !b.outside[nf].is_empty() {
-                    stack.push(nf);
-                }
+            b.verify()
+        })();
+        b.s.zobrist = zobrist;
+        b.s.visible = visible;
+        b.s.horizon = horizon;
+        b.s.ridges = ridges;
+        b.s.table = table;
+        result?;
+        Ok(b)
+    }
+
+    /// Appends point `q`, `h` above facet `f`, to the facet's outside list.
+    #[inline]
+    fn push_outside(&mut self, f: usize, q: usize, h: f64) {
+        let e = self.s.entries.len() as u32;
+        self.s.entries.push((q as u32, NONE));
+        if self.s.head[f] == NONE {
+            self.s.head[f] = e;
+            self.s.farthest[f] = (q, h);
+        } else {
+            self.s.entries[self.s.tail[f] as usize].1 = e;
+            if self.s.farthest[f].1.total_cmp(&h) != std::cmp::Ordering::Greater {
+                self.s.farthest[f] = (q, h);
             }
         }
-        b.verify()?;
-        Ok(b)
+        self.s.tail[f] = e;
+    }
+
+    /// The first facet of `facets` (in order) that point `q` is more than `eps` above, with
+    /// that distance. Every distance is [`Builder::dist`]'s, bit for bit.
+    #[inline]
+    fn first_above(&self, facets: std::ops::Range<usize>, q: usize) -> Option<(usize, f64)> {
+        let d = self.d;
+        let p = &self.pts[q * d..(q + 1) * d];
+        if let Ok(p) = <&[f64; 6]>::try_from(p) {
+            // 6-D: four planes at a time (same arithmetic as `dot`, so same distances).
+            let normals = &self.s.normals[facets.start * 6..facets.end * 6];
+            let offsets = &self.s.offsets[facets.clone()];
+            let mut base = facets.start;
+            let mut chunks = normals.chunks_exact(24).zip(offsets.chunks_exact(4));
+            for (n, o) in &mut chunks {
+                let mut h = [0.0; 4];
+                for (k, hk) in h.iter_mut().enumerate() {
+                    let n = &n[k * 6..k * 6 + 6];
+                    *hk = ((n[0] * p[0] + n[1] * p[1]) + (n[2] * p[2] + n[3] * p[3]) + (n[4] * p[4] + n[5] * p[5]))
+                        - o[k];
+                }
+                if let Some(k) = h.iter().position(|&x| x > self.eps) {
+                    return Some((base + k, h[k]));
+                }
+                base += 4;
+            }
+            return (base..facets.end).map(|f| (f, self.dist(f, q))).find(|&(_, h)| h > self.eps);
+        }
+        facets.map(|f| (f, self.dist(f, q))).find(|&(_, h)| h > self.eps)
     }
 
     /// Signed distance of point `i` above facet `f`.
     #[inline]
     pub(super) fn dist(&self, f: usize, i: usize) -> f64 {
         let d = self.d;
-        dot(&self.normals[f * d..(f + 1) * d], &self.pts[i * d..(i + 1) * d]) - self.offsets[f]
+        dot(&self.s.normals[f * d..(f + 1) * d], &self.pts[i * d..(i + 1) * d]) - self.s.offsets[f]
     }
 
     /// Appends a facet, computing its oriented plane; fails on a degenerate simplex.
@@ -268,11 +382,11 @@ impl<'a> Builder<'a> {
         cone: Option<(usize, usize, usize, f64, f64)>,
     ) -> std::result::Result<usize, String> {
         let d = self.d;
-        let f = self.offsets.len();
-        self.normals.resize((f + 1) * d, 0.0);
+        let f = self.s.offsets.len();
+        self.s.normals.resize((f + 1) * d, 0.0);
         let mut offset = None;
         if let Some((vis, other, apex, a, c)) = cone {
-            let (head, tail) = self.normals.split_at_mut(f * d);
+            let (head, tail) = self.s.normals.split_at_mut(f * d);
             let normal = &mut tail[..d];
             for (k, x) in normal.iter_mut().enumerate() {
                 *x = a * head[other * d + k] - c * head[vis * d + k];
@@ -302,16 +416,18 @@ impl<'a> Builder<'a> {
                 &self.center,
                 &mut self.qr,
                 &mut self.vnorm,
-                &mut self.normals[f * d..(f + 1) * d],
+                &mut self.s.normals[f * d..(f + 1) * d],
                 self.scale,
             )
             .ok_or("degenerate facet")?,
         };
-        self.offsets.push(offset);
-        self.verts.extend_from_slice(vs);
-        self.nbrs.extend_from_slice(ns);
-        self.alive.push(true);
-        self.outside.push(Vec::new());
+        self.s.offsets.push(offset);
+        self.s.verts.extend_from_slice(vs);
+        self.s.nbrs.extend_from_slice(ns);
+        self.s.alive.push(true);
+        self.s.head.push(NONE);
+        self.s.tail.push(NONE);
+        self.s.farthest.push((usize::MAX, 0.0));
         Ok(f)
     }
 
@@ -319,18 +435,18 @@ impl<'a> Builder<'a> {
     pub(super) fn verify(&self) -> std::result::Result<(), String> {
         let d = self.d;
         let tol = 1e-7 * self.scale;
-        for f in (0..self.alive.len()).filter(|&f| self.alive[f]) {
+        for f in (0..self.s.alive.len()).filter(|&f| self.s.alive[f]) {
             for i in 0..d {
-                let g = self.nbrs[f * d + i];
-                if g == usize::MAX || !self.alive[g] {
+                let g = self.s.nbrs[f * d + i];
+                if g == usize::MAX || !self.s.alive[g] {
                     return Err("facet with a dead or missing neighbour".into());
                 }
                 if g < f {
                     // Each ridge once: the two one-sided convexity tests are equivalent.
                     continue;
                 }
-                let j = (0..d).find(|&j| self.nbrs[g * d + j] == f).ok_or("asymmetric neighbour link")?;
-                if self.dist(f, self.verts[g * d + j]) > tol {
+                let j = (0..d).find(|&j| self.s.nbrs[g * d + j] == f).ok_or("asymmetric neighbour link")?;
+                if self.dist(f, self.s.verts[g * d + j]) > tol {
                     return Err("non-convex ridge".into());
                 }
             }
@@ -338,20 +454,22 @@ impl<'a> Builder<'a> {
         Ok(())
     }
 
-    pub(super) fn finish(self, original: &[f64], joggle: f64, attempts: usize) -> ConvexHull {
+    /// The hull of the original (un-joggled) points with this builder's facets.
+    pub(super) fn finish(mut self, original: &[f64], joggle: f64, attempts: usize) -> ConvexHull {
         let d = self.d;
-        let alive: Vec<usize> = (0..self.alive.len()).filter(|&f| self.alive[f]).collect();
-        let mut facet_vertices = Vec::with_capacity(alive.len() * d);
-        let mut normals = Vec::with_capacity(alive.len() * d);
-        let mut offsets = Vec::with_capacity(alive.len());
+        let s = &self.s;
+        let count = s.alive.iter().filter(|&&a| a).count();
+        let mut facet_vertices = Vec::with_capacity(count * d);
+        let mut normals = Vec::with_capacity(count * d);
+        let mut offsets = Vec::with_capacity(count);
         let mut volume = 0.0;
         let mut m = vec![0.0; d * d];
         let factorial: f64 = (1..=d).map(|k| k as f64).product();
-        for &f in &alive {
-            let vs = &self.verts[f * d..(f + 1) * d];
+        for f in (0..s.alive.len()).filter(|&f| s.alive[f]) {
+            let vs = &s.verts[f * d..(f + 1) * d];
             facet_vertices.extend_from_slice(vs);
-            normals.extend_from_slice(&self.normals[f * d..(f + 1) * d]);
-            offsets.push(self.offsets[f]);
+            normals.extend_from_slice(&s.normals[f * d..(f + 1) * d]);
+            offsets.push(s.offsets[f]);
             for (row, &v) in m.chunks_exact_mut(d).zip(vs) {
                 for ((x, o), c) in row.iter_mut().zip(&original[v * d..(v + 1) * d]).zip(&self.center) {
                     *x = o - c;
@@ -368,7 +486,7 @@ impl<'a> Builder<'a> {
             normals,
             offsets,
             vertices,
-            interior: self.center,
+            interior: std::mem::take(&mut self.center),
             volume,
             joggle,
             attempts,

@@ -30,8 +30,10 @@
 //! 6-D, built in about half a millisecond on one core.
 
 mod builder;
+mod reference;
 
 use builder::{initial_simplex, Builder};
+use reference::Reference;
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -122,6 +124,18 @@ impl ConvexHull {
     /// # Errors
     /// See [`ConvexHull::new`].
     pub fn from_flat(dim: usize, coords: &[f64], options: &HullOptions) -> Result<Self> {
+        Self::from_flat_with(dim, coords, options, false)
+    }
+
+    /// As [`ConvexHull::from_flat`], built by the previous (unoptimised) quickhull builder.
+    /// The two give bit-identical hulls; this one is kept as the reference of the
+    /// equivalence tests and benches, not for use.
+    #[doc(hidden)]
+    pub fn from_flat_reference(dim: usize, coords: &[f64], options: &HullOptions) -> Result<Self> {
+        Self::from_flat_with(dim, coords, options, true)
+    }
+
+    fn from_flat_with(dim: usize, coords: &[f64], options: &HullOptions, reference: bool) -> Result<Self> {
         if dim < 2 || coords.len() % dim != 0 {
             return Err(GraspError::InvalidParameter {
                 name: "coords",
@@ -150,8 +164,13 @@ impl ConvexHull {
             for (j, &c) in jog.iter_mut().zip(coords) {
                 *j = c + amp * (2.0 * rng.random::<f64>() - 1.0);
             }
-            match Builder::run(dim, &jog, &unique, &simplex, scale) {
-                Ok(b) => return Ok(b.finish(coords, amp, attempt + 1)),
+            let built = if reference {
+                Reference::run(dim, &jog, &unique, &simplex, scale).map(|b| b.finish(coords, amp, attempt + 1))
+            } else {
+                Builder::run(dim, &jog, &unique, &simplex, scale).map(|b| b.finish(coords, amp, attempt + 1))
+            };
+            match built {
+                Ok(hull) => return Ok(hull),
                 Err(reason) => last_reason = reason,
             }
             joggle *= 10.0;
