@@ -14,7 +14,7 @@ pub(super) fn initial_simplex(d: usize, pts: &[f64], unique: &[usize], scale: f6
     if unique.is_empty() || scale == 0.0 {
         return Err(degenerate(0));
     }
-    let p = |i: usize| &pts[i * d..(i + 1) * d];
+    let p = |i: usize| &pts[i * d..][..d];
     // Start from the point with the smallest first coordinate, then add the point farthest
     // from the affine span of the chosen ones.
     let first = *unique.iter().min_by(|&&a, &&b| p(a)[0].total_cmp(&p(b)[0])).unwrap_or(&unique[0]);
@@ -101,6 +101,35 @@ thread_local! {
     static STORAGE: std::cell::RefCell<Storage> = std::cell::RefCell::default();
 }
 
+/// The dimension of a [`Builder`]: known at compile time ([`Fixed`], for the 6-D wrench
+/// space, so every per-facet loop has a constant length) or at run time ([`Dynamic`]).
+pub(super) trait Dim: Copy {
+    /// The dimension.
+    fn n(self) -> usize;
+}
+
+/// A dimension given at run time.
+#[derive(Clone, Copy)]
+pub(super) struct Dynamic(pub(super) usize);
+
+impl Dim for Dynamic {
+    #[inline(always)]
+    fn n(self) -> usize {
+        self.0
+    }
+}
+
+/// A dimension fixed at compile time.
+#[derive(Clone, Copy)]
+pub(super) struct Fixed<const N: usize>;
+
+impl<const N: usize> Dim for Fixed<N> {
+    #[inline(always)]
+    fn n(self) -> usize {
+        N
+    }
+}
+
 /// Quickhull state on the joggled points (facets stored flat, `d` entries per facet).
 ///
 /// The construction (order of apexes, facets, planes and outside sets) is exactly that of
@@ -108,8 +137,8 @@ thread_local! {
 /// sets are linked lists in one arena with the farthest point tracked on insertion, the
 /// storage is reused per thread, and the points are handed to new facets by a scan over
 /// their contiguous planes.
-pub(super) struct Builder<'a> {
-    d: usize,
+pub(super) struct Builder<'a, D: Dim> {
+    dim: D,
     pts: &'a [f64],
     center: Vec<f64>,
     s: Storage,
@@ -119,7 +148,7 @@ pub(super) struct Builder<'a> {
     vnorm: Vec<f64>,
 }
 
-impl Drop for Builder<'_> {
+impl<D: Dim> Drop for Builder<'_, D> {
     fn drop(&mut self) {
         let s = std::mem::take(&mut self.s);
         // Ignore a thread being torn down (the storage is then simply freed).
@@ -131,17 +160,18 @@ impl Drop for Builder<'_> {
     }
 }
 
-impl<'a> Builder<'a> {
+impl<'a, D: Dim> Builder<'a, D> {
     pub(super) fn run(
-        d: usize,
+        dim: D,
         pts: &'a [f64],
         unique: &[usize],
         simplex: &[usize],
         scale: f64,
     ) -> std::result::Result<Self, String> {
+        let d = dim.n();
         let mut center = vec![0.0; d];
         for &i in simplex {
-            for (c, x) in center.iter_mut().zip(&pts[i * d..(i + 1) * d]) {
+            for (c, x) in center.iter_mut().zip(&pts[i * d..][..d]) {
                 *c += x / (d + 1) as f64;
             }
         }
@@ -149,7 +179,8 @@ impl<'a> Builder<'a> {
             .try_with(|cell| cell.try_borrow_mut().map(|mut s| std::mem::take(&mut *s)).unwrap_or_default())
             .unwrap_or_default();
         s.clear();
-        let mut b = Builder { d, pts, center, s, eps: 1e-13 * scale, scale, qr: vec![0.0; d * d], vnorm: vec![0.0; d] };
+        let mut b =
+            Builder { dim, pts, center, s, eps: 1e-13 * scale, scale, qr: vec![0.0; d * d], vnorm: vec![0.0; d] };
         // Initial simplex: facet j omits simplex[j]; its neighbour opposite simplex[k] is facet k.
         let mut vs: Vec<usize> = Vec::with_capacity(d);
         let mut ns: Vec<usize> = Vec::with_capacity(d);
@@ -227,7 +258,7 @@ impl<'a> Builder<'a> {
                 // first_new.. in horizon order.
                 let first_new = b.s.offsets.len();
                 for (k, &(f, i)) in horizon.iter().enumerate() {
-                    vs.copy_from_slice(&b.s.verts[f * d..(f + 1) * d]);
+                    vs.copy_from_slice(&b.s.verts[f * d..][..d]);
                     vs[i] = apex;
                     let other = b.s.nbrs[f * d + i];
                     ns.iter_mut().for_each(|x| *x = usize::MAX);
@@ -244,7 +275,7 @@ impl<'a> Builder<'a> {
                 // astronomically unlikely and would fail the final verification).
                 ridges.clear();
                 for (&(_, i), nf) in horizon.iter().zip(new_facets.clone()) {
-                    let vs = &b.s.verts[nf * d..(nf + 1) * d];
+                    let vs = &b.s.verts[nf * d..][..d];
                     let h = vs.iter().fold(0u64, |h, &v| h.wrapping_add(zobrist[v]));
                     for k in (0..d).filter(|&k| k != i) {
                         ridges.push((h.wrapping_sub(zobrist[vs[k]]), nf, k));
@@ -333,8 +364,8 @@ impl<'a> Builder<'a> {
     /// that distance. Every distance is [`Builder::dist`]'s, bit for bit.
     #[inline]
     fn first_above(&self, facets: std::ops::Range<usize>, q: usize) -> Option<(usize, f64)> {
-        let d = self.d;
-        let p = &self.pts[q * d..(q + 1) * d];
+        let d = self.dim.n();
+        let p = &self.pts[q * d..][..d];
         if let Ok(p) = <&[f64; 6]>::try_from(p) {
             // 6-D: four planes at a time (same arithmetic as `dot`, so same distances).
             let normals = &self.s.normals[facets.start * 6..facets.end * 6];
@@ -359,10 +390,10 @@ impl<'a> Builder<'a> {
     }
 
     /// Signed distance of point `i` above facet `f`.
-    #[inline]
+    #[inline(always)]
     pub(super) fn dist(&self, f: usize, i: usize) -> f64 {
-        let d = self.d;
-        dot(&self.s.normals[f * d..(f + 1) * d], &self.pts[i * d..(i + 1) * d]) - self.s.offsets[f]
+        let d = self.dim.n();
+        dot(&self.s.normals[f * d..][..d], &self.pts[i * d..][..d]) - self.s.offsets[f]
     }
 
     /// Appends a facet, computing its oriented plane; fails on a degenerate simplex.
@@ -381,26 +412,27 @@ impl<'a> Builder<'a> {
         ns: &[usize],
         cone: Option<(usize, usize, usize, f64, f64)>,
     ) -> std::result::Result<usize, String> {
-        let d = self.d;
+        let d = self.dim.n();
         let f = self.s.offsets.len();
         self.s.normals.resize((f + 1) * d, 0.0);
         let mut offset = None;
         if let Some((vis, other, apex, a, c)) = cone {
             let (head, tail) = self.s.normals.split_at_mut(f * d);
             let normal = &mut tail[..d];
-            for (k, x) in normal.iter_mut().enumerate() {
-                *x = a * head[other * d + k] - c * head[vis * d + k];
+            let (n_other, n_vis) = (&head[other * d..][..d], &head[vis * d..][..d]);
+            for ((x, no), nv) in normal.iter_mut().zip(n_other).zip(n_vis) {
+                *x = a * no - c * nv;
             }
             let len = dot(normal, normal).sqrt();
             // Well conditioned unless the parents are nearly opposite (a knife-edge ridge).
             if len > 1e-2 * (a.abs() + c.abs()) {
                 normal.iter_mut().for_each(|x| *x /= len);
-                let b = dot(normal, &self.pts[apex * d..(apex + 1) * d]);
+                let b = dot(normal, &self.pts[apex * d..][..d]);
                 // Spot-check two vertices (one is not the apex) against drift of the
                 // parents' normals.
                 let on_plane = [vs[0], vs[d - 1]]
                     .iter()
-                    .all(|&v| (dot(normal, &self.pts[v * d..(v + 1) * d]) - b).abs() <= 1e-11 * self.scale);
+                    .all(|&v| (dot(normal, &self.pts[v * d..][..d]) - b).abs() <= 1e-11 * self.scale);
                 let below = dot(normal, &self.center) - b < -1e-12 * self.scale;
                 if on_plane && below {
                     offset = Some(b);
@@ -416,14 +448,14 @@ impl<'a> Builder<'a> {
                 &self.center,
                 &mut self.qr,
                 &mut self.vnorm,
-                &mut self.s.normals[f * d..(f + 1) * d],
+                &mut self.s.normals[f * d..][..d],
                 self.scale,
             )
             .ok_or("degenerate facet")?,
         };
         self.s.offsets.push(offset);
-        self.s.verts.extend_from_slice(vs);
-        self.s.nbrs.extend_from_slice(ns);
+        self.s.verts.extend_from_slice(&vs[..d]);
+        self.s.nbrs.extend_from_slice(&ns[..d]);
         self.s.alive.push(true);
         self.s.head.push(NONE);
         self.s.tail.push(NONE);
@@ -433,7 +465,7 @@ impl<'a> Builder<'a> {
 
     /// Ridge pairing and local convexity of every pair of neighbouring facets.
     pub(super) fn verify(&self) -> std::result::Result<(), String> {
-        let d = self.d;
+        let d = self.dim.n();
         let tol = 1e-7 * self.scale;
         for f in (0..self.s.alive.len()).filter(|&f| self.s.alive[f]) {
             for i in 0..d {
@@ -456,7 +488,7 @@ impl<'a> Builder<'a> {
 
     /// The hull of the original (un-joggled) points with this builder's facets.
     pub(super) fn finish(mut self, original: &[f64], joggle: f64, attempts: usize) -> ConvexHull {
-        let d = self.d;
+        let d = self.dim.n();
         let s = &self.s;
         let count = s.alive.iter().filter(|&&a| a).count();
         let mut facet_vertices = Vec::with_capacity(count * d);
@@ -466,16 +498,16 @@ impl<'a> Builder<'a> {
         let mut m = vec![0.0; d * d];
         let factorial: f64 = (1..=d).map(|k| k as f64).product();
         for f in (0..s.alive.len()).filter(|&f| s.alive[f]) {
-            let vs = &s.verts[f * d..(f + 1) * d];
+            let vs = &s.verts[f * d..][..d];
             facet_vertices.extend_from_slice(vs);
-            normals.extend_from_slice(&s.normals[f * d..(f + 1) * d]);
+            normals.extend_from_slice(&s.normals[f * d..][..d]);
             offsets.push(s.offsets[f]);
             for (row, &v) in m.chunks_exact_mut(d).zip(vs) {
-                for ((x, o), c) in row.iter_mut().zip(&original[v * d..(v + 1) * d]).zip(&self.center) {
+                for ((x, o), c) in row.iter_mut().zip(&original[v * d..][..d]).zip(&self.center) {
                     *x = o - c;
                 }
             }
-            volume += determinant(d, &mut m).abs() / factorial;
+            volume += if d == 6 { determinant6(&m) } else { determinant(d, &mut m) }.abs() / factorial;
         }
         let mut is_vertex = vec![false; original.len() / d];
         facet_vertices.iter().for_each(|&v| is_vertex[v] = true);
@@ -514,7 +546,7 @@ pub(super) fn plane(
     let mut max_edge = 0.0_f64;
     for k in 0..m {
         let xk = &pts[vs[k + 1] * d..(vs[k + 1] + 1) * d];
-        let col = &mut qr[k * d..(k + 1) * d];
+        let col = &mut qr[k * d..][..d];
         for r in 0..d {
             col[r] = xk[r] - x0[r];
         }
@@ -564,6 +596,59 @@ pub(super) fn plane(
     Some(offset)
 }
 
+/// [`determinant`] of a 6 × 6 matrix, with the same operations in the same order (so the
+/// same result, bit for bit) on a fixed-size copy: the entries below a pivot, which the
+/// general version zeroes but never reads again, are not updated.
+pub(super) fn determinant6(m: &[f64]) -> f64 {
+    let mut a = [[0.0; 6]; 6];
+    for (row, src) in a.iter_mut().zip(m.chunks_exact(6)) {
+        row.copy_from_slice(src);
+    }
+    let mut det = 1.0;
+    // One elimination step per column, with the column a constant so every loop unrolls.
+    #[inline(always)]
+    fn step<const K: usize>(a: &mut [[f64; 6]; 6], det: &mut f64) -> bool {
+        let mut p = K;
+        let mut best = a[K][K].abs();
+        for (r, row) in a.iter().enumerate().skip(K + 1) {
+            let v = row[K].abs();
+            if v > best {
+                best = v;
+                p = r;
+            }
+        }
+        if best == 0.0 {
+            return false;
+        }
+        if p != K {
+            a.swap(p, K);
+            *det = -*det;
+        }
+        let pivot_row = a[K];
+        let pivot = pivot_row[K];
+        *det *= pivot;
+        let inv = 1.0 / pivot;
+        for row in a.iter_mut().skip(K + 1) {
+            let factor = row[K] * inv;
+            for c in (K + 1)..6 {
+                row[c] -= factor * pivot_row[c];
+            }
+        }
+        true
+    }
+    let full = step::<0>(&mut a, &mut det)
+        && step::<1>(&mut a, &mut det)
+        && step::<2>(&mut a, &mut det)
+        && step::<3>(&mut a, &mut det)
+        && step::<4>(&mut a, &mut det)
+        && step::<5>(&mut a, &mut det);
+    if full {
+        det
+    } else {
+        0.0
+    }
+}
+
 /// Determinant of the row-major `d × d` matrix `m` (destroyed), by LU with partial pivoting.
 pub(super) fn determinant(d: usize, m: &mut [f64]) -> f64 {
     let m = &mut m[..d * d];
@@ -583,7 +668,7 @@ pub(super) fn determinant(d: usize, m: &mut [f64]) -> f64 {
         }
         if p != k {
             let (top, bottom) = m.split_at_mut(p * d);
-            top[k * d..(k + 1) * d].swap_with_slice(&mut bottom[..d]);
+            top[k * d..][..d].swap_with_slice(&mut bottom[..d]);
             det = -det;
         }
         let (top, bottom) = m.split_at_mut((k + 1) * d);

@@ -32,7 +32,7 @@
 mod builder;
 mod reference;
 
-use builder::{initial_simplex, Builder};
+use builder::{initial_simplex, Builder, Dynamic, Fixed};
 use reference::Reference;
 
 use rand::{Rng, SeedableRng};
@@ -166,8 +166,10 @@ impl ConvexHull {
             }
             let built = if reference {
                 Reference::run(dim, &jog, &unique, &simplex, scale).map(|b| b.finish(coords, amp, attempt + 1))
+            } else if dim == 6 {
+                Builder::run(Fixed::<6>, &jog, &unique, &simplex, scale).map(|b| b.finish(coords, amp, attempt + 1))
             } else {
-                Builder::run(dim, &jog, &unique, &simplex, scale).map(|b| b.finish(coords, amp, attempt + 1))
+                Builder::run(Dynamic(dim), &jog, &unique, &simplex, scale).map(|b| b.finish(coords, amp, attempt + 1))
             };
             match built {
                 Ok(hull) => return Ok(hull),
@@ -254,7 +256,7 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::builder::determinant;
+    use super::builder::{determinant, determinant6};
     use super::*;
 
     fn cube(d: usize) -> Vec<Vec<f64>> {
@@ -278,5 +280,23 @@ mod tests {
     fn determinant_of_known_matrix() {
         let mut m = vec![2.0, 0.0, 1.0, 1.0, 3.0, 2.0, 1.0, 1.0, 2.0];
         assert!((determinant(3, &mut m) - 6.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn fixed_6x6_determinant_is_bit_identical_to_the_general_one() {
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        for case in 0..2000 {
+            let mut m: Vec<f64> = (0..36).map(|_| rng.random_range(-1.0..1.0)).collect();
+            if case % 7 == 0 {
+                // Singular: a repeated row.
+                let row = m[..6].to_vec();
+                m[30..].copy_from_slice(&row);
+            }
+            let fixed = determinant6(&m);
+            assert_eq!(fixed.to_bits(), determinant(6, &mut m.clone()).to_bits(), "case {case}");
+        }
+        let mut identity = vec![0.0; 36];
+        (0..6).for_each(|i| identity[i * 7] = 2.0);
+        assert_eq!(determinant6(&identity), 64.0);
     }
 }
