@@ -70,13 +70,13 @@ struct Storage {
     /// Outside-list entries: (point, next entry).
     entries: Vec<(u32, u32)>,
     // Per-iteration scratch of the main loop.
-    stamp: Vec<u32>,
-    state: Vec<u8>,
-    apex_dist: Vec<f64>,
+    /// Per facet: the iteration that last computed its distance to the apex, and that
+    /// distance (the facet is visible iff it is above `eps`).
+    mark: Vec<(u32, f64)>,
     visible: Vec<usize>,
     horizon: Vec<(usize, usize)>,
-    ridges: Vec<(u64, usize, usize)>,
-    table: Vec<(u64, usize, usize)>,
+    /// Open-addressing table of the new facets' ridges: (hash, facet, index in facet).
+    table: Vec<(u64, u32, u32)>,
     zobrist: Vec<u64>,
 }
 
@@ -91,9 +91,7 @@ impl Storage {
         self.tail.clear();
         self.farthest.clear();
         self.entries.clear();
-        self.stamp.clear();
-        self.state.clear();
-        self.apex_dist.clear();
+        self.mark.clear();
     }
 }
 
@@ -205,14 +203,14 @@ impl<'a, D: Dim> Builder<'a, D> {
         }
         let mut stack: Vec<usize> = (0..=d).filter(|&f| b.s.head[f] != NONE).collect();
         let mut iteration = 0u32;
-        const PAIRED: usize = usize::MAX - 1;
+        const EMPTY: u32 = u32::MAX;
+        const PAIRED: u32 = u32::MAX - 1;
         let mut rng = ChaCha8Rng::seed_from_u64(0x5eed);
         let mut zobrist = std::mem::take(&mut b.s.zobrist);
         zobrist.clear();
         zobrist.extend((0..pts.len() / d).map(|_| rng.random::<u64>()));
         let mut visible = std::mem::take(&mut b.s.visible);
         let mut horizon = std::mem::take(&mut b.s.horizon);
-        let mut ridges = std::mem::take(&mut b.s.ridges);
         let mut table = std::mem::take(&mut b.s.table);
         let mut vs = vec![0; d];
         let mut ns = vec![usize::MAX; d];
@@ -225,31 +223,28 @@ impl<'a, D: Dim> Builder<'a, D> {
                 let apex = b.s.farthest[f0].0;
                 // Breadth-first search of the facets visible from the apex.
                 let nf_total = b.s.alive.len();
-                b.s.stamp.resize(nf_total, 0);
-                b.s.state.resize(nf_total, 0);
-                b.s.apex_dist.resize(nf_total, 0.0);
+                b.s.mark.resize(nf_total, (0, 0.0));
                 visible.clear();
                 horizon.clear();
                 visible.push(f0);
-                b.s.stamp[f0] = iteration;
-                b.s.state[f0] = 1;
-                b.s.apex_dist[f0] = b.dist(f0, apex);
+                // The apex is above f0 by the very distance that put it in f0's list.
+                b.s.mark[f0] = (iteration, b.dist(f0, apex));
                 let mut head = 0;
                 while head < visible.len() {
                     let f = visible[head];
                     head += 1;
                     for i in 0..d {
                         let g = b.s.nbrs[f * d + i];
-                        if b.s.stamp[g] != iteration {
-                            b.s.stamp[g] = iteration;
-                            let h = b.dist(g, apex);
-                            b.s.apex_dist[g] = h;
-                            b.s.state[g] = if h > b.eps { 1 } else { 2 };
-                            if b.s.state[g] == 1 {
+                        let (stamp, mut h) = b.s.mark[g];
+                        if stamp != iteration {
+                            h = b.dist(g, apex);
+                            b.s.mark[g] = (iteration, h);
+                            if h > b.eps {
                                 visible.push(g);
                             }
                         }
-                        if b.s.state[g] == 2 {
+                        let above = h > b.eps;
+                        if !above {
                             horizon.push((f, i));
                         }
                     }
@@ -263,7 +258,7 @@ impl<'a, D: Dim> Builder<'a, D> {
                     let other = b.s.nbrs[f * d + i];
                     ns.iter_mut().for_each(|x| *x = usize::MAX);
                     ns[i] = other;
-                    let cone = Some((f, other, apex, b.s.apex_dist[f], b.s.apex_dist[other]));
+                    let cone = Some((f, other, apex, b.s.mark[f].1, b.s.mark[other].1));
                     let nf = b.add_facet(&vs, &ns, cone)?;
                     debug_assert_eq!(nf, first_new + k);
                     let back = (0..d).find(|&j| b.s.nbrs[other * d + j] == f).ok_or("broken neighbour link")?;
@@ -273,36 +268,32 @@ impl<'a, D: Dim> Builder<'a, D> {
                 // Pair the new facets' ridges through the apex: a ridge's key is the
                 // order-independent (Zobrist) hash of its vertices (64-bit, collisions are
                 // astronomically unlikely and would fail the final verification).
-                ridges.clear();
+                let size = (2 * new_facets.len() * (d - 1)).next_power_of_two();
+                table.clear();
+                table.resize(size, (0, EMPTY, 0));
+                let mut unpaired = 0usize;
                 for (&(_, i), nf) in horizon.iter().zip(new_facets.clone()) {
                     let vs = &b.s.verts[nf * d..][..d];
-                    let h = vs.iter().fold(0u64, |h, &v| h.wrapping_add(zobrist[v]));
+                    let hash = vs.iter().fold(0u64, |h, &v| h.wrapping_add(zobrist[v]));
                     for k in (0..d).filter(|&k| k != i) {
-                        ridges.push((h.wrapping_sub(zobrist[vs[k]]), nf, k));
-                    }
-                }
-                // Open-addressing table keyed by the ridge hash; each key must occur twice.
-                let size = (2 * ridges.len()).next_power_of_two();
-                table.clear();
-                table.resize(size, (0, usize::MAX, 0));
-                let mut unpaired = 0usize;
-                for &(h, fa, ka) in &ridges {
-                    let mut slot = (h as usize) & (size - 1);
-                    loop {
-                        let (hb, fb, kb) = table[slot];
-                        if fb == usize::MAX {
-                            table[slot] = (h, fa, ka);
-                            unpaired += 1;
-                            break;
+                        let h = hash.wrapping_sub(zobrist[vs[k]]);
+                        let mut slot = (h as usize) & (size - 1);
+                        loop {
+                            let (hb, fb, kb) = table[slot];
+                            if fb == EMPTY {
+                                table[slot] = (h, nf as u32, k as u32);
+                                unpaired += 1;
+                                break;
+                            }
+                            if hb == h && fb != PAIRED {
+                                b.s.nbrs[nf * d + k] = fb as usize;
+                                b.s.nbrs[fb as usize * d + kb as usize] = nf;
+                                table[slot].1 = PAIRED;
+                                unpaired -= 1;
+                                break;
+                            }
+                            slot = (slot + 1) & (size - 1);
                         }
-                        if hb == h && fb != PAIRED {
-                            b.s.nbrs[fa * d + ka] = fb;
-                            b.s.nbrs[fb * d + kb] = fa;
-                            table[slot].1 = PAIRED;
-                            unpaired -= 1;
-                            break;
-                        }
-                        slot = (slot + 1) & (size - 1);
                     }
                 }
                 if unpaired != 0 {
@@ -337,7 +328,6 @@ impl<'a, D: Dim> Builder<'a, D> {
         b.s.zobrist = zobrist;
         b.s.visible = visible;
         b.s.horizon = horizon;
-        b.s.ridges = ridges;
         b.s.table = table;
         result?;
         Ok(b)
