@@ -492,8 +492,9 @@ impl<'a, D: Dim> Builder<'a, D> {
             facet_vertices.extend_from_slice(vs);
             normals.extend_from_slice(&s.normals[f * d..][..d]);
             offsets.push(s.offsets[f]);
+            let center = &self.center[..d];
             for (row, &v) in m.chunks_exact_mut(d).zip(vs) {
-                for ((x, o), c) in row.iter_mut().zip(&original[v * d..][..d]).zip(&self.center) {
+                for ((x, o), c) in row[..d].iter_mut().zip(&original[v * d..][..d]).zip(center) {
                     *x = o - c;
                 }
             }
