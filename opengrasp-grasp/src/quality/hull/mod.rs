@@ -26,8 +26,18 @@
 //!    is retried with a joggle ten times larger, up to [`HullOptions::max_attempts`] times,
 //!    then [`GraspError::HullFailed`] is returned.
 //!
-//! Cost: the 32 primitive wrenches of a 4-contact, 8-edge grasp give about 1,200 facets in
-//! 6-D, built in about half a millisecond on one core.
+//! Implementation: in 6-D (the wrench space) the builder is compiled for the fixed dimension,
+//! so every per-facet loop has a constant length; outside sets are linked lists in one arena
+//! with the farthest point kept on insertion; the growable arrays are reused per thread; the
+//! volume uses an unrolled 6 × 6 LU. None of this changes a floating-point operation: the
+//! previous builder is kept (`from_flat_reference`, hidden) and tests check the two agree bit
+//! for bit (facets, planes, volume, depth).
+//!
+//! Cost: the 32 primitive wrenches of a 4-contact, 8-edge grasp give about 1,400 facets in
+//! 6-D (about 2.5 times as many are created and discarded on the way); 48 wrenches give about
+//! 2,700. A hull of the default suite's force-closure grasps (194 of them, 16 candidates per
+//! cell) takes 8.7 million instructions on average (callgrind; 15.9 million with the previous
+//! builder), about a millisecond on one core.
 
 mod builder;
 mod reference;
