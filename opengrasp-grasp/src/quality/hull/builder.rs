@@ -52,6 +52,20 @@ pub(super) fn initial_simplex(d: usize, pts: &[f64], unique: &[usize], scale: f6
 /// End of an outside-point list.
 const NONE: u32 = u32::MAX;
 
+/// A facet's outside list: first and last entry in [`Storage::entries`] and the farthest
+/// point with its distance (the last one of the largest distance, the choice
+/// `Iterator::max_by` makes over the list).
+#[derive(Clone, Copy)]
+struct Outside {
+    head: u32,
+    tail: u32,
+    farthest: (usize, f64),
+}
+
+impl Outside {
+    const EMPTY: Self = Outside { head: NONE, tail: NONE, farthest: (usize::MAX, 0.0) };
+}
+
 /// The growable arrays of a [`Builder`], kept per thread between builds so a hull of a few
 /// thousand facets does not allocate (and page-fault) its megabyte of storage every time.
 #[derive(Default)]
@@ -61,12 +75,8 @@ struct Storage {
     normals: Vec<f64>,
     offsets: Vec<f64>,
     alive: Vec<bool>,
-    /// First and last entry of each facet's outside list in `entries`.
-    head: Vec<u32>,
-    tail: Vec<u32>,
-    /// The farthest outside point of each facet (the last one of the largest distance, the
-    /// choice `Iterator::max_by` makes over the list).
-    farthest: Vec<(usize, f64)>,
+    /// Each facet's outside list.
+    outside: Vec<Outside>,
     /// Outside-list entries: (point, next entry).
     entries: Vec<(u32, u32)>,
     // Per-iteration scratch of the main loop.
@@ -87,9 +97,7 @@ impl Storage {
         self.normals.clear();
         self.offsets.clear();
         self.alive.clear();
-        self.head.clear();
-        self.tail.clear();
-        self.farthest.clear();
+        self.outside.clear();
         self.entries.clear();
         self.mark.clear();
     }
@@ -201,7 +209,7 @@ impl<'a, D: Dim> Builder<'a, D> {
                 }
             }
         }
-        let mut stack: Vec<usize> = (0..=d).filter(|&f| b.s.head[f] != NONE).collect();
+        let mut stack: Vec<usize> = (0..=d).filter(|&f| b.s.outside[f].head != NONE).collect();
         let mut iteration = 0u32;
         const EMPTY: u32 = u32::MAX;
         const PAIRED: u32 = u32::MAX - 1;
@@ -216,11 +224,11 @@ impl<'a, D: Dim> Builder<'a, D> {
         let mut ns = vec![usize::MAX; d];
         let result = (|| {
             while let Some(f0) = stack.pop() {
-                if !b.s.alive[f0] || b.s.head[f0] == NONE {
+                if !b.s.alive[f0] || b.s.outside[f0].head == NONE {
                     continue;
                 }
                 iteration += 1;
-                let apex = b.s.farthest[f0].0;
+                let apex = b.s.outside[f0].farthest.0;
                 // Breadth-first search of the facets visible from the apex.
                 let nf_total = b.s.alive.len();
                 b.s.mark.resize(nf_total, (0, 0.0));
@@ -303,8 +311,8 @@ impl<'a, D: Dim> Builder<'a, D> {
                 // they are above (in creation order).
                 for &f in &visible {
                     b.s.alive[f] = false;
-                    let mut e = b.s.head[f];
-                    b.s.head[f] = NONE;
+                    let mut e = b.s.outside[f].head;
+                    b.s.outside[f].head = NONE;
                     while e != NONE {
                         let (q, next) = b.s.entries[e as usize];
                         e = next;
@@ -318,7 +326,7 @@ impl<'a, D: Dim> Builder<'a, D> {
                     }
                 }
                 for nf in new_facets {
-                    if b.s.head[nf] != NONE {
+                    if b.s.outside[nf].head != NONE {
                         stack.push(nf);
                     }
                 }
@@ -338,16 +346,17 @@ impl<'a, D: Dim> Builder<'a, D> {
     fn push_outside(&mut self, f: usize, q: usize, h: f64) {
         let e = self.s.entries.len() as u32;
         self.s.entries.push((q as u32, NONE));
-        if self.s.head[f] == NONE {
-            self.s.head[f] = e;
-            self.s.farthest[f] = (q, h);
+        let o = &mut self.s.outside[f];
+        if o.head == NONE {
+            o.head = e;
+            o.farthest = (q, h);
         } else {
-            self.s.entries[self.s.tail[f] as usize].1 = e;
-            if self.s.farthest[f].1.total_cmp(&h) != std::cmp::Ordering::Greater {
-                self.s.farthest[f] = (q, h);
+            self.s.entries[o.tail as usize].1 = e;
+            if o.farthest.1.total_cmp(&h) != std::cmp::Ordering::Greater {
+                o.farthest = (q, h);
             }
         }
-        self.s.tail[f] = e;
+        o.tail = e;
     }
 
     /// The first facet of `facets` (in order) that point `q` is more than `eps` above, with
@@ -447,9 +456,7 @@ impl<'a, D: Dim> Builder<'a, D> {
         self.s.verts.extend_from_slice(&vs[..d]);
         self.s.nbrs.extend_from_slice(&ns[..d]);
         self.s.alive.push(true);
-        self.s.head.push(NONE);
-        self.s.tail.push(NONE);
-        self.s.farthest.push((usize::MAX, 0.0));
+        self.s.outside.push(Outside::EMPTY);
         Ok(f)
     }
 
