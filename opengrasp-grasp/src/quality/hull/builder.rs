@@ -70,8 +70,10 @@ impl Outside {
 /// thousand facets does not allocate (and page-fault) its megabyte of storage every time.
 #[derive(Default)]
 struct Storage {
-    verts: Vec<usize>,
-    nbrs: Vec<usize>,
+    /// Vertices and neighbours of the facets, `d` per facet, as `u32` to halve the memory the
+    /// breadth-first searches walk (`u32::MAX`: neighbour not yet linked).
+    verts: Vec<u32>,
+    nbrs: Vec<u32>,
     normals: Vec<f64>,
     offsets: Vec<f64>,
     alive: Vec<bool>,
@@ -242,7 +244,7 @@ impl<'a, D: Dim> Builder<'a, D> {
                     let f = visible[head];
                     head += 1;
                     for i in 0..d {
-                        let g = b.s.nbrs[f * d + i];
+                        let g = b.s.nbrs[f * d + i] as usize;
                         let (stamp, mut h) = b.s.mark[g];
                         if stamp != iteration {
                             h = b.dist(g, apex);
@@ -261,16 +263,19 @@ impl<'a, D: Dim> Builder<'a, D> {
                 // first_new.. in horizon order.
                 let first_new = b.s.offsets.len();
                 for (k, &(f, i)) in horizon.iter().enumerate() {
-                    vs.copy_from_slice(&b.s.verts[f * d..][..d]);
+                    for (x, &v) in vs.iter_mut().zip(&b.s.verts[f * d..][..d]) {
+                        *x = v as usize;
+                    }
                     vs[i] = apex;
-                    let other = b.s.nbrs[f * d + i];
+                    let other = b.s.nbrs[f * d + i] as usize;
                     ns.iter_mut().for_each(|x| *x = usize::MAX);
                     ns[i] = other;
                     let cone = Some((f, other, apex, b.s.mark[f].1, b.s.mark[other].1));
                     let nf = b.add_facet(&vs, &ns, cone)?;
                     debug_assert_eq!(nf, first_new + k);
-                    let back = (0..d).find(|&j| b.s.nbrs[other * d + j] == f).ok_or("broken neighbour link")?;
-                    b.s.nbrs[other * d + back] = nf;
+                    let back =
+                        (0..d).find(|&j| b.s.nbrs[other * d + j] as usize == f).ok_or("broken neighbour link")?;
+                    b.s.nbrs[other * d + back] = nf as u32;
                 }
                 let new_facets = first_new..b.s.offsets.len();
                 // Pair the new facets' ridges through the apex: a ridge's key is the
@@ -282,9 +287,9 @@ impl<'a, D: Dim> Builder<'a, D> {
                 let mut unpaired = 0usize;
                 for (&(_, i), nf) in horizon.iter().zip(new_facets.clone()) {
                     let vs = &b.s.verts[nf * d..][..d];
-                    let hash = vs.iter().fold(0u64, |h, &v| h.wrapping_add(zobrist[v]));
+                    let hash = vs.iter().fold(0u64, |h, &v| h.wrapping_add(zobrist[v as usize]));
                     for k in (0..d).filter(|&k| k != i) {
-                        let h = hash.wrapping_sub(zobrist[vs[k]]);
+                        let h = hash.wrapping_sub(zobrist[vs[k] as usize]);
                         let mut slot = (h as usize) & (size - 1);
                         loop {
                             let (hb, fb, kb) = table[slot];
@@ -294,8 +299,8 @@ impl<'a, D: Dim> Builder<'a, D> {
                                 break;
                             }
                             if hb == h && fb != PAIRED {
-                                b.s.nbrs[nf * d + k] = fb as usize;
-                                b.s.nbrs[fb as usize * d + kb as usize] = nf;
+                                b.s.nbrs[nf * d + k] = fb;
+                                b.s.nbrs[fb as usize * d + kb as usize] = nf as u32;
                                 table[slot].1 = PAIRED;
                                 unpaired -= 1;
                                 break;
@@ -453,8 +458,12 @@ impl<'a, D: Dim> Builder<'a, D> {
             .ok_or("degenerate facet")?,
         };
         self.s.offsets.push(offset);
-        self.s.verts.extend_from_slice(&vs[..d]);
-        self.s.nbrs.extend_from_slice(&ns[..d]);
+        if f >= (u32::MAX - 1) as usize || vs[..d].iter().any(|&v| v >= u32::MAX as usize) {
+            return Err("too many facets or points".into());
+        }
+        // `usize::MAX` (no neighbour yet) becomes `u32::MAX`.
+        self.s.verts.extend(vs[..d].iter().map(|&v| v as u32));
+        self.s.nbrs.extend(ns[..d].iter().map(|&n| n.min(u32::MAX as usize) as u32));
         self.s.alive.push(true);
         self.s.outside.push(Outside::EMPTY);
         Ok(f)
@@ -466,16 +475,16 @@ impl<'a, D: Dim> Builder<'a, D> {
         let tol = 1e-7 * self.scale;
         for f in (0..self.s.alive.len()).filter(|&f| self.s.alive[f]) {
             for i in 0..d {
-                let g = self.s.nbrs[f * d + i];
-                if g == usize::MAX || !self.s.alive[g] {
+                let g = self.s.nbrs[f * d + i] as usize;
+                if g == u32::MAX as usize || !self.s.alive[g] {
                     return Err("facet with a dead or missing neighbour".into());
                 }
                 if g < f {
                     // Each ridge once: the two one-sided convexity tests are equivalent.
                     continue;
                 }
-                let j = (0..d).find(|&j| self.s.nbrs[g * d + j] == f).ok_or("asymmetric neighbour link")?;
-                if self.dist(f, self.s.verts[g * d + j]) > tol {
+                let j = (0..d).find(|&j| self.s.nbrs[g * d + j] as usize == f).ok_or("asymmetric neighbour link")?;
+                if self.dist(f, self.s.verts[g * d + j] as usize) > tol {
                     return Err("non-convex ridge".into());
                 }
             }
@@ -496,12 +505,12 @@ impl<'a, D: Dim> Builder<'a, D> {
         let factorial: f64 = (1..=d).map(|k| k as f64).product();
         for f in (0..s.alive.len()).filter(|&f| s.alive[f]) {
             let vs = &s.verts[f * d..][..d];
-            facet_vertices.extend_from_slice(vs);
+            facet_vertices.extend(vs.iter().map(|&v| v as usize));
             normals.extend_from_slice(&s.normals[f * d..][..d]);
             offsets.push(s.offsets[f]);
             let center = &self.center[..d];
             for (row, &v) in m.chunks_exact_mut(d).zip(vs) {
-                for ((x, o), c) in row[..d].iter_mut().zip(&original[v * d..][..d]).zip(center) {
+                for ((x, o), c) in row[..d].iter_mut().zip(&original[v as usize * d..][..d]).zip(center) {
                     *x = o - c;
                 }
             }
