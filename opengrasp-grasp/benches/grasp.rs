@@ -18,17 +18,10 @@ use opengrasp_grasp::evaluator::{EvaluatorOptions, GraspEvaluator};
 use opengrasp_grasp::planners::{GraspCandidate, GraspPlanner, GraspRequest, MedialAxisPlanner, SurfaceNormalPlanner};
 use opengrasp_grasp::{ContactModel, ConvexHull, GraspWrenchSpace, HullOptions, ObjectFrame};
 
-/// The default suite's objects.
-const SUITE_OBJECTS: [&str; 8] = [
-    "bread_box",
-    "chocolate_box",
-    "salt_box",
-    "salt_can",
-    "detergent_bottle",
-    "spray_bottle",
-    "white_cup",
-    "green_cup",
-];
+/// The default suite's objects: the stock objects without the measuring cup (the last one).
+fn suite_objects() -> &'static [&'static str] {
+    &objects::NAMES[..objects::NAMES.len() - 1]
+}
 
 /// Candidates per hand × object × planner in the throughput mix (evenly spaced through the
 /// planner's list, as the suite picks its capped candidates).
@@ -39,7 +32,7 @@ fn suite_mix() -> Vec<(GraspEvaluator, ObjectModel, Vec<GraspCandidate>)> {
     let hands: [Hand; 2] = [hands::armar3_hand(), hands::barrett()];
     let mut mix = Vec::new();
     for hand in &hands {
-        for name in SUITE_OBJECTS {
+        for &name in suite_objects() {
             let object = objects::by_name(name).expect("stock object");
             let ev = GraspEvaluator::new(hand, &object, EvaluatorOptions::default()).expect("evaluator");
             let info = ev.hand_info().clone();
