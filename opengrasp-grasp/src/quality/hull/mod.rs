@@ -40,9 +40,11 @@
 //! builder), about a millisecond on one core.
 
 mod builder;
+mod linalg;
 mod reference;
 
-use builder::{initial_simplex, Builder, Dynamic, Fixed};
+use builder::{Builder, Dynamic, Fixed};
+use linalg::initial_simplex;
 use reference::Reference;
 
 use rand::{Rng, SeedableRng};
@@ -266,7 +268,7 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::builder::{determinant, determinant6};
+    use super::linalg::{determinant, determinant6};
     use super::*;
 
     fn cube(d: usize) -> Vec<Vec<f64>> {

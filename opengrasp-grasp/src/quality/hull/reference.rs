@@ -5,7 +5,7 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use super::builder::{determinant, plane};
+use super::linalg::{determinant, plane};
 use super::{dot, ConvexHull};
 
 /// Quickhull state on the joggled points (facets stored flat, `d` entries per facet).
