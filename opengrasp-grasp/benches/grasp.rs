@@ -1,16 +1,109 @@
 //! Benchmarks of opengrasp-grasp: one candidate through the shared grasp evaluator (place,
 //! retract, close, contacts, quality) on the salt can with and without the 6-D hull and on the
-//! non-convex detergent bottle, and candidate generation
-//! of the two reference planners. Inputs are deterministic (fixed candidates, seed 0).
+//! non-convex detergent bottle; the evaluation throughput on a mix of candidates like the
+//! default suite's (`throughput/…`, reported in candidates per second on one core); the 6-D
+//! hull of the force-closure grasps of that mix, optimised builder against the previous one
+//! (`hull6d/…`); and candidate generation of the two reference planners. Inputs are
+//! deterministic (fixed candidates, seed 0).
 //!
 //! Run briefly with `cargo bench -p opengrasp-grasp --bench grasp -- --warm-up-time 1 --measurement-time 3`.
 
 use std::hint::black_box;
 
-use criterion::{criterion_main, Criterion};
+use criterion::{criterion_main, Criterion, Throughput};
 use opengrasp_assets::{hands, objects};
+use opengrasp_core::hand::Hand;
+use opengrasp_core::object::ObjectModel;
 use opengrasp_grasp::evaluator::{EvaluatorOptions, GraspEvaluator};
-use opengrasp_grasp::planners::{GraspPlanner, GraspRequest, MedialAxisPlanner, SurfaceNormalPlanner};
+use opengrasp_grasp::planners::{GraspCandidate, GraspPlanner, GraspRequest, MedialAxisPlanner, SurfaceNormalPlanner};
+use opengrasp_grasp::{ContactModel, ConvexHull, GraspWrenchSpace, HullOptions, ObjectFrame};
+
+/// The default suite's objects: the stock objects without the measuring cup (the last one).
+fn suite_objects() -> &'static [&'static str] {
+    &objects::NAMES[..objects::NAMES.len() - 1]
+}
+
+/// Candidates per hand × object × planner in the throughput mix (evenly spaced through the
+/// planner's list, as the suite picks its capped candidates).
+const PER_CELL: usize = 4;
+
+/// One evaluator per hand × object of the suite with its share of the mix of candidates.
+fn suite_mix() -> Vec<(GraspEvaluator, ObjectModel, Vec<GraspCandidate>)> {
+    let hands: [Hand; 2] = [hands::armar3_hand(), hands::barrett()];
+    let mut mix = Vec::new();
+    for hand in &hands {
+        for &name in suite_objects() {
+            let object = objects::by_name(name).expect("stock object");
+            let ev = GraspEvaluator::new(hand, &object, EvaluatorOptions::default()).expect("evaluator");
+            let info = ev.hand_info().clone();
+            let request = GraspRequest { hand: &info, object: &object.mesh, seed: 0 };
+            let mut chosen = Vec::new();
+            let planners: [&dyn GraspPlanner; 2] = [&MedialAxisPlanner::default(), &SurfaceNormalPlanner::default()];
+            for planner in planners {
+                let all = planner.plan(&request).expect("candidates");
+                let m = PER_CELL.min(all.len());
+                chosen.extend((0..m).map(|i| all[i * all.len() / m].clone()));
+            }
+            mix.push((ev, object, chosen));
+        }
+    }
+    mix
+}
+
+/// Evaluation throughput on the suite mix: one iteration evaluates every candidate once.
+fn throughput(c: &mut Criterion) {
+    let mut mix = suite_mix();
+    let n: usize = mix.iter().map(|m| m.2.len()).sum();
+    let mut group = c.benchmark_group("throughput");
+    group.throughput(Throughput::Elements(n as u64));
+    group.sample_size(10);
+    group.bench_function(format!("suite_mix_{n}"), |b| {
+        b.iter(|| {
+            for (ev, _, candidates) in &mut mix {
+                for candidate in candidates.iter() {
+                    black_box(ev.evaluate(candidate).expect("evaluation"));
+                }
+            }
+        })
+    });
+    group.finish();
+}
+
+/// The 6-D hulls of the mix's force-closure grasps: the optimised builder and the previous one.
+fn hull6d(c: &mut Criterion) {
+    let mut sets: Vec<Vec<f64>> = Vec::new();
+    for (ev, object, candidates) in &mut suite_mix() {
+        let frame = ObjectFrame::from_points(object.center_of_mass(), object.mesh.vertices()).expect("frame");
+        let model = ContactModel { friction: object.friction, ..ContactModel::default() };
+        for candidate in candidates.iter() {
+            let e = ev.evaluate(candidate).expect("evaluation");
+            if e.force_closure() {
+                let contacts: Vec<_> = e.contacts.iter().map(|c| c.contact).collect();
+                let ws = GraspWrenchSpace::new(&contacts, &frame, &model).expect("wrench space");
+                sets.push(ws.wrenches().iter().flat_map(|w| w.iter().copied()).collect());
+            }
+        }
+    }
+    let mut group = c.benchmark_group("hull6d");
+    group.throughput(Throughput::Elements(sets.len() as u64));
+    group.sample_size(10);
+    let options = HullOptions::default();
+    group.bench_function(format!("suite_fc_{}/optimised", sets.len()), |b| {
+        b.iter(|| {
+            for s in &sets {
+                black_box(ConvexHull::from_flat(6, s, &options).expect("hull"));
+            }
+        })
+    });
+    group.bench_function(format!("suite_fc_{}/reference", sets.len()), |b| {
+        b.iter(|| {
+            for s in &sets {
+                black_box(ConvexHull::from_flat_reference(6, s, &options).expect("hull"));
+            }
+        })
+    });
+    group.finish();
+}
 
 fn evaluation(c: &mut Criterion) {
     let object = objects::by_name("salt_can").expect("stock object");
@@ -67,6 +160,6 @@ fn planning(c: &mut Criterion) {
 mod group {
     // `criterion_group!` generates an undocumented public function.
     #![allow(missing_docs)]
-    criterion::criterion_group!(benches, super::evaluation, super::planning);
+    criterion::criterion_group!(benches, super::evaluation, super::throughput, super::hull6d, super::planning);
 }
 criterion_main!(group::benches);

@@ -1,107 +1,160 @@
-//! The quickhull construction behind [`ConvexHull`](super::ConvexHull): initial simplex,
-//! facet visibility and horizon, exact plane and determinant helpers.
+//! The quickhull construction behind [`ConvexHull`](super::ConvexHull): facet visibility,
+//! horizon, cone of new facets, outside sets, verification and volume.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use crate::error::{GraspError, Result};
-
+use super::linalg::{determinant, determinant6, plane};
 use super::{dot, ConvexHull};
 
-/// Greedy (pivoted Gram-Schmidt) choice of `d + 1` affinely independent points.
-pub(super) fn initial_simplex(d: usize, pts: &[f64], unique: &[usize], scale: f64) -> Result<Vec<usize>> {
-    let degenerate = |rank| GraspError::DegenerateHull { dimension: d, affine_rank: rank };
-    if unique.is_empty() || scale == 0.0 {
-        return Err(degenerate(0));
-    }
-    let p = |i: usize| &pts[i * d..(i + 1) * d];
-    // Start from the point with the smallest first coordinate, then add the point farthest
-    // from the affine span of the chosen ones.
-    let first = *unique.iter().min_by(|&&a, &&b| p(a)[0].total_cmp(&p(b)[0])).unwrap_or(&unique[0]);
-    let mut simplex = vec![first];
-    let mut basis: Vec<Vec<f64>> = Vec::with_capacity(d);
-    let mut r = vec![0.0; d];
-    for k in 0..d {
-        let mut best = (0.0, usize::MAX, Vec::new());
-        for &i in unique {
-            for (rj, (a, b)) in r.iter_mut().zip(p(i).iter().zip(p(first))) {
-                *rj = a - b;
-            }
-            for q in &basis {
-                let s = dot(q, &r);
-                for (rj, qj) in r.iter_mut().zip(q) {
-                    *rj -= s * qj;
-                }
-            }
-            let norm = dot(&r, &r).sqrt();
-            if norm > best.0 {
-                best = (norm, i, r.clone());
-            }
-        }
-        if best.0 <= 1e-12 * scale {
-            return Err(degenerate(k));
-        }
-        let (norm, i, mut v) = best;
-        v.iter_mut().for_each(|x| *x /= norm);
-        simplex.push(i);
-        basis.push(v);
-    }
-    Ok(simplex)
+/// End of an outside-point list.
+const NONE: u32 = u32::MAX;
+
+/// A facet's outside list: first and last entry in [`Storage::entries`] and the farthest
+/// point with its distance (the last one of the largest distance, the choice
+/// `Iterator::max_by` makes over the list).
+#[derive(Clone, Copy)]
+struct Outside {
+    head: u32,
+    tail: u32,
+    farthest: (usize, f64),
 }
 
-/// Quickhull state on the joggled points (facets stored flat, `d` entries per facet).
-pub(super) struct Builder<'a> {
-    d: usize,
-    pts: &'a [f64],
-    center: Vec<f64>,
-    verts: Vec<usize>,
-    nbrs: Vec<usize>,
+impl Outside {
+    const EMPTY: Self = Outside { head: NONE, tail: NONE, farthest: (usize::MAX, 0.0) };
+}
+
+/// The growable arrays of a [`Builder`], kept per thread between builds so a hull of a few
+/// thousand facets does not allocate (and page-fault) its megabyte of storage every time.
+#[derive(Default)]
+struct Storage {
+    /// Vertices and neighbours of the facets, `d` per facet, as `u32` to halve the memory the
+    /// breadth-first searches walk (`u32::MAX`: neighbour not yet linked).
+    verts: Vec<u32>,
+    nbrs: Vec<u32>,
     normals: Vec<f64>,
     offsets: Vec<f64>,
     alive: Vec<bool>,
-    /// Outside points of each facet with their distance above it.
-    outside: Vec<Vec<(usize, f64)>>,
+    /// Each facet's outside list.
+    outside: Vec<Outside>,
+    /// Outside-list entries: (point, next entry).
+    entries: Vec<(u32, u32)>,
+    // Per-iteration scratch of the main loop.
+    /// Per facet: the iteration that last computed its distance to the apex, and that
+    /// distance (the facet is visible iff it is above `eps`).
+    mark: Vec<(u32, f64)>,
+    visible: Vec<usize>,
+    horizon: Vec<(usize, usize)>,
+    /// Open-addressing table of the new facets' ridges: (hash, facet, index in facet).
+    table: Vec<(u64, u32, u32)>,
+    zobrist: Vec<u64>,
+}
+
+impl Storage {
+    fn clear(&mut self) {
+        self.verts.clear();
+        self.nbrs.clear();
+        self.normals.clear();
+        self.offsets.clear();
+        self.alive.clear();
+        self.outside.clear();
+        self.entries.clear();
+        self.mark.clear();
+    }
+}
+
+thread_local! {
+    static STORAGE: std::cell::RefCell<Storage> = std::cell::RefCell::default();
+}
+
+/// The dimension of a [`Builder`]: known at compile time ([`Fixed`], for the 6-D wrench
+/// space, so every per-facet loop has a constant length) or at run time ([`Dynamic`]).
+pub(super) trait Dim: Copy {
+    /// The dimension.
+    fn n(self) -> usize;
+}
+
+/// A dimension given at run time.
+#[derive(Clone, Copy)]
+pub(super) struct Dynamic(pub(super) usize);
+
+impl Dim for Dynamic {
+    #[inline(always)]
+    fn n(self) -> usize {
+        self.0
+    }
+}
+
+/// A dimension fixed at compile time.
+#[derive(Clone, Copy)]
+pub(super) struct Fixed<const N: usize>;
+
+impl<const N: usize> Dim for Fixed<N> {
+    #[inline(always)]
+    fn n(self) -> usize {
+        N
+    }
+}
+
+/// Quickhull state on the joggled points (facets stored flat, `d` entries per facet).
+///
+/// The construction (order of apexes, facets, planes and outside sets) is exactly that of
+/// the previous builder kept in `super::reference`; only the bookkeeping is cheaper: outside
+/// sets are linked lists in one arena with the farthest point tracked on insertion, the
+/// storage is reused per thread, and the points are handed to new facets by a scan over
+/// their contiguous planes.
+pub(super) struct Builder<'a, D: Dim> {
+    dim: D,
+    pts: &'a [f64],
+    center: Vec<f64>,
+    s: Storage,
     eps: f64,
     scale: f64,
     qr: Vec<f64>,
     vnorm: Vec<f64>,
 }
 
-impl<'a> Builder<'a> {
+impl<D: Dim> Drop for Builder<'_, D> {
+    fn drop(&mut self) {
+        let s = std::mem::take(&mut self.s);
+        // Ignore a thread being torn down (the storage is then simply freed).
+        let _ = STORAGE.try_with(|cell| {
+            if let Ok(mut slot) = cell.try_borrow_mut() {
+                *slot = s;
+            }
+        });
+    }
+}
+
+impl<'a, D: Dim> Builder<'a, D> {
     pub(super) fn run(
-        d: usize,
+        dim: D,
         pts: &'a [f64],
         unique: &[usize],
         simplex: &[usize],
         scale: f64,
     ) -> std::result::Result<Self, String> {
+        let d = dim.n();
         let mut center = vec![0.0; d];
         for &i in simplex {
-            for (c, x) in center.iter_mut().zip(&pts[i * d..(i + 1) * d]) {
+            for (c, x) in center.iter_mut().zip(&pts[i * d..][..d]) {
                 *c += x / (d + 1) as f64;
             }
         }
-        // Facets created: a few dozen per point in 6-D; vectors grow beyond if needed.
-        let capacity = 16 * d * unique.len();
-        let mut b = Builder {
-            d,
-            pts,
-            center,
-            verts: Vec::with_capacity(capacity * d),
-            nbrs: Vec::with_capacity(capacity * d),
-            normals: Vec::with_capacity(capacity * d),
-            offsets: Vec::with_capacity(capacity),
-            alive: Vec::with_capacity(capacity),
-            outside: Vec::with_capacity(capacity),
-            eps: 1e-13 * scale,
-            scale,
-            qr: vec![0.0; d * d],
-            vnorm: vec![0.0; d],
-        };
+        let mut s = STORAGE
+            .try_with(|cell| cell.try_borrow_mut().map(|mut s| std::mem::take(&mut *s)).unwrap_or_default())
+            .unwrap_or_default();
+        s.clear();
+        let mut b =
+            Builder { dim, pts, center, s, eps: 1e-13 * scale, scale, qr: vec![0.0; d * d], vnorm: vec![0.0; d] };
         // Initial simplex: facet j omits simplex[j]; its neighbour opposite simplex[k] is facet k.
+        let mut vs: Vec<usize> = Vec::with_capacity(d);
+        let mut ns: Vec<usize> = Vec::with_capacity(d);
         for j in 0..=d {
-            let vs: Vec<usize> = simplex.iter().enumerate().filter(|&(k, _)| k != j).map(|(_, &v)| v).collect();
-            let ns: Vec<usize> = (0..=d).filter(|&k| k != j).collect();
+            vs.clear();
+            vs.extend(simplex.iter().enumerate().filter(|&(k, _)| k != j).map(|(_, &v)| v));
+            ns.clear();
+            ns.extend((0..=d).filter(|&k| k != j));
             b.add_facet(&vs, &ns, None)?;
         }
         for &i in unique {
@@ -111,144 +164,198 @@ impl<'a> Builder<'a> {
             for f in 0..=d {
                 let h = b.dist(f, i);
                 if h > b.eps {
-                    b.outside[f].push((i, h));
+                    b.push_outside(f, i, h);
                     break;
                 }
             }
         }
-        let mut stack: Vec<usize> = (0..=d).filter(|&f| !b.outside[f].is_empty()).collect();
-        let mut stamp = vec![0u32; 0];
-        let mut state = vec![0u8; 0];
-        let mut apex_dist = vec![0.0f64; 0];
+        let mut stack: Vec<usize> = (0..=d).filter(|&f| b.s.outside[f].head != NONE).collect();
         let mut iteration = 0u32;
-        let mut visible = Vec::new();
-        let mut horizon: Vec<(usize, usize)> = Vec::new();
-        let mut ridges: Vec<(u64, usize, usize)> = Vec::new();
-        let mut table: Vec<(u64, usize, usize)> = Vec::new();
-        const PAIRED: usize = usize::MAX - 1;
+        const EMPTY: u32 = u32::MAX;
+        const PAIRED: u32 = u32::MAX - 1;
         let mut rng = ChaCha8Rng::seed_from_u64(0x5eed);
-        let zobrist: Vec<u64> = (0..pts.len() / d).map(|_| rng.random()).collect();
-        let mut new_facets = Vec::new();
+        let mut zobrist = std::mem::take(&mut b.s.zobrist);
+        zobrist.clear();
+        zobrist.extend((0..pts.len() / d).map(|_| rng.random::<u64>()));
+        let mut visible = std::mem::take(&mut b.s.visible);
+        let mut horizon = std::mem::take(&mut b.s.horizon);
+        let mut table = std::mem::take(&mut b.s.table);
         let mut vs = vec![0; d];
         let mut ns = vec![usize::MAX; d];
-        while let Some(f0) = stack.pop() {
-            if !b.alive[f0] || b.outside[f0].is_empty() {
-                continue;
-            }
-            iteration += 1;
-            let apex = b.outside[f0].iter().max_by(|x, y| x.1.total_cmp(&y.1)).map_or(usize::MAX, |x| x.0);
-            // Breadth-first search of the facets visible from the apex.
-            stamp.resize(b.alive.len(), 0);
-            state.resize(b.alive.len(), 0);
-            apex_dist.resize(b.alive.len(), 0.0);
-            visible.clear();
-            horizon.clear();
-            visible.push(f0);
-            stamp[f0] = iteration;
-            state[f0] = 1;
-            apex_dist[f0] = b.dist(f0, apex);
-            let mut head = 0;
-            while head < visible.len() {
-                let f = visible[head];
-                head += 1;
-                for i in 0..d {
-                    let g = b.nbrs[f * d + i];
-                    if stamp[g] != iteration {
-                        stamp[g] = iteration;
-                        apex_dist[g] = b.dist(g, apex);
-                        state[g] = if apex_dist[g] > b.eps { 1 } else { 2 };
-                        if state[g] == 1 {
-                            visible.push(g);
+        let result = (|| {
+            while let Some(f0) = stack.pop() {
+                if !b.s.alive[f0] || b.s.outside[f0].head == NONE {
+                    continue;
+                }
+                iteration += 1;
+                let apex = b.s.outside[f0].farthest.0;
+                // Breadth-first search of the facets visible from the apex.
+                let nf_total = b.s.alive.len();
+                b.s.mark.resize(nf_total, (0, 0.0));
+                visible.clear();
+                horizon.clear();
+                visible.push(f0);
+                // The apex is above f0 by the very distance that put it in f0's list.
+                b.s.mark[f0] = (iteration, b.dist(f0, apex));
+                let mut head = 0;
+                while head < visible.len() {
+                    let f = visible[head];
+                    head += 1;
+                    for i in 0..d {
+                        let g = b.s.nbrs[f * d + i] as usize;
+                        let (stamp, mut h) = b.s.mark[g];
+                        if stamp != iteration {
+                            h = b.dist(g, apex);
+                            b.s.mark[g] = (iteration, h);
+                            if h > b.eps {
+                                visible.push(g);
+                            }
                         }
-                    }
-                    if state[g] == 2 {
-                        horizon.push((f, i));
-                    }
-                }
-            }
-            // Cone of new facets over the horizon.
-            new_facets.clear();
-            for &(f, i) in &horizon {
-                vs.copy_from_slice(&b.verts[f * d..(f + 1) * d]);
-                vs[i] = apex;
-                let other = b.nbrs[f * d + i];
-                ns.iter_mut().for_each(|x| *x = usize::MAX);
-                ns[i] = other;
-                let nf = b.add_facet(&vs, &ns, Some((f, other, apex, apex_dist[f], apex_dist[other])))?;
-                let back = (0..d).find(|&j| b.nbrs[other * d + j] == f).ok_or("broken neighbour link")?;
-                b.nbrs[other * d + back] = nf;
-                new_facets.push((nf, i));
-            }
-            // Pair the new facets' ridges through the apex: a ridge's key is the
-            // order-independent (Zobrist) hash of its vertices (64-bit, collisions are
-            // astronomically unlikely and would fail the final verification).
-            ridges.clear();
-            for &(nf, i) in &new_facets {
-                let vs = &b.verts[nf * d..(nf + 1) * d];
-                let h = vs.iter().fold(0u64, |h, &v| h.wrapping_add(zobrist[v]));
-                for k in (0..d).filter(|&k| k != i) {
-                    ridges.push((h.wrapping_sub(zobrist[vs[k]]), nf, k));
-                }
-            }
-            // Open-addressing table keyed by the ridge hash; each key must occur twice.
-            let size = (2 * ridges.len()).next_power_of_two();
-            table.clear();
-            table.resize(size, (0, usize::MAX, 0));
-            let mut unpaired = 0usize;
-            for &(h, fa, ka) in &ridges {
-                let mut slot = (h as usize) & (size - 1);
-                loop {
-                    let (hb, fb, kb) = table[slot];
-                    if fb == usize::MAX {
-                        table[slot] = (h, fa, ka);
-                        unpaired += 1;
-                        break;
-                    }
-                    if hb == h && fb != PAIRED {
-                        b.nbrs[fa * d + ka] = fb;
-                        b.nbrs[fb * d + kb] = fa;
-                        table[slot].1 = PAIRED;
-                        unpaired -= 1;
-                        break;
-                    }
-                    slot = (slot + 1) & (size - 1);
-                }
-            }
-            if unpaired != 0 {
-                return Err("horizon ridges do not pair up".into());
-            }
-            // Reassign the outside points of the visible facets.
-            for &f in &visible {
-                b.alive[f] = false;
-                let pts_f = std::mem::take(&mut b.outside[f]);
-                for &(q, _) in &pts_f {
-                    if q == apex {
-                        continue;
-                    }
-                    for &(nf, _) in &new_facets {
-                        let h = b.dist(nf, q);
-                        if h > b.eps {
-                            b.outside[nf].push((q, h));
-                            break;
+                        let above = h > b.eps;
+                        if !above {
+                            horizon.push((f, i));
                         }
                     }
                 }
-            }
-            for &(nf, _) in &new_facets {
-                if !b.outside[nf].is_empty() {
-                    stack.push(nf);
+                // Cone of new facets over the horizon; they get the contiguous indices
+                // first_new.. in horizon order.
+                let first_new = b.s.offsets.len();
+                for (k, &(f, i)) in horizon.iter().enumerate() {
+                    for (x, &v) in vs.iter_mut().zip(&b.s.verts[f * d..][..d]) {
+                        *x = v as usize;
+                    }
+                    vs[i] = apex;
+                    let other = b.s.nbrs[f * d + i] as usize;
+                    ns.iter_mut().for_each(|x| *x = usize::MAX);
+                    ns[i] = other;
+                    let cone = Some((f, other, apex, b.s.mark[f].1, b.s.mark[other].1));
+                    let nf = b.add_facet(&vs, &ns, cone)?;
+                    debug_assert_eq!(nf, first_new + k);
+                    let back =
+                        (0..d).find(|&j| b.s.nbrs[other * d + j] as usize == f).ok_or("broken neighbour link")?;
+                    b.s.nbrs[other * d + back] = nf as u32;
+                }
+                let new_facets = first_new..b.s.offsets.len();
+                // Pair the new facets' ridges through the apex: a ridge's key is the
+                // order-independent (Zobrist) hash of its vertices (64-bit, collisions are
+                // astronomically unlikely and would fail the final verification).
+                let size = (2 * new_facets.len() * (d - 1)).next_power_of_two();
+                table.clear();
+                table.resize(size, (0, EMPTY, 0));
+                let mut unpaired = 0usize;
+                for (&(_, i), nf) in horizon.iter().zip(new_facets.clone()) {
+                    let vs = &b.s.verts[nf * d..][..d];
+                    let hash = vs.iter().fold(0u64, |h, &v| h.wrapping_add(zobrist[v as usize]));
+                    for k in (0..d).filter(|&k| k != i) {
+                        let h = hash.wrapping_sub(zobrist[vs[k] as usize]);
+                        let mut slot = (h as usize) & (size - 1);
+                        loop {
+                            let (hb, fb, kb) = table[slot];
+                            if fb == EMPTY {
+                                table[slot] = (h, nf as u32, k as u32);
+                                unpaired += 1;
+                                break;
+                            }
+                            if hb == h && fb != PAIRED {
+                                b.s.nbrs[nf * d + k] = fb;
+                                b.s.nbrs[fb as usize * d + kb as usize] = nf as u32;
+                                table[slot].1 = PAIRED;
+                                unpaired -= 1;
+                                break;
+                            }
+                            slot = (slot + 1) & (size - 1);
+                        }
+                    }
+                }
+                if unpaired != 0 {
+                    return Err("horizon ridges do not pair up".to_string());
+                }
+                // Hand the outside points of the visible facets to the first new facet
+                // they are above (in creation order).
+                for &f in &visible {
+                    b.s.alive[f] = false;
+                    let mut e = b.s.outside[f].head;
+                    b.s.outside[f].head = NONE;
+                    while e != NONE {
+                        let (q, next) = b.s.entries[e as usize];
+                        e = next;
+                        let q = q as usize;
+                        if q == apex {
+                            continue;
+                        }
+                        if let Some((nf, h)) = b.first_above(new_facets.clone(), q) {
+                            b.push_outside(nf, q, h);
+                        }
+                    }
+                }
+                for nf in new_facets {
+                    if b.s.outside[nf].head != NONE {
+                        stack.push(nf);
+                    }
                 }
             }
-        }
-        b.verify()?;
+            b.verify()
+        })();
+        b.s.zobrist = zobrist;
+        b.s.visible = visible;
+        b.s.horizon = horizon;
+        b.s.table = table;
+        result?;
         Ok(b)
     }
 
-    /// Signed distance of point `i` above facet `f`.
+    /// Appends point `q`, `h` above facet `f`, to the facet's outside list.
     #[inline]
+    fn push_outside(&mut self, f: usize, q: usize, h: f64) {
+        let e = self.s.entries.len() as u32;
+        self.s.entries.push((q as u32, NONE));
+        let o = &mut self.s.outside[f];
+        if o.head == NONE {
+            o.head = e;
+            o.farthest = (q, h);
+        } else {
+            self.s.entries[o.tail as usize].1 = e;
+            if o.farthest.1.total_cmp(&h) != std::cmp::Ordering::Greater {
+                o.farthest = (q, h);
+            }
+        }
+        o.tail = e;
+    }
+
+    /// The first facet of `facets` (in order) that point `q` is more than `eps` above, with
+    /// that distance. Every distance is [`Builder::dist`]'s, bit for bit.
+    #[inline]
+    fn first_above(&self, facets: std::ops::Range<usize>, q: usize) -> Option<(usize, f64)> {
+        let d = self.dim.n();
+        let p = &self.pts[q * d..][..d];
+        if let Ok(p) = <&[f64; 6]>::try_from(p) {
+            // 6-D: four planes at a time (same arithmetic as `dot`, so same distances).
+            let normals = &self.s.normals[facets.start * 6..facets.end * 6];
+            let offsets = &self.s.offsets[facets.clone()];
+            let mut base = facets.start;
+            let mut chunks = normals.chunks_exact(24).zip(offsets.chunks_exact(4));
+            for (n, o) in &mut chunks {
+                let mut h = [0.0; 4];
+                for (k, hk) in h.iter_mut().enumerate() {
+                    let n = &n[k * 6..k * 6 + 6];
+                    *hk = ((n[0] * p[0] + n[1] * p[1]) + (n[2] * p[2] + n[3] * p[3]) + (n[4] * p[4] + n[5] * p[5]))
+                        - o[k];
+                }
+                if let Some(k) = h.iter().position(|&x| x > self.eps) {
+                    return Some((base + k, h[k]));
+                }
+                base += 4;
+            }
+            return (base..facets.end).map(|f| (f, self.dist(f, q))).find(|&(_, h)| h > self.eps);
+        }
+        facets.map(|f| (f, self.dist(f, q))).find(|&(_, h)| h > self.eps)
+    }
+
+    /// Signed distance of point `i` above facet `f`.
+    #[inline(always)]
     pub(super) fn dist(&self, f: usize, i: usize) -> f64 {
-        let d = self.d;
-        dot(&self.normals[f * d..(f + 1) * d], &self.pts[i * d..(i + 1) * d]) - self.offsets[f]
+        let d = self.dim.n();
+        dot(&self.s.normals[f * d..][..d], &self.pts[i * d..][..d]) - self.s.offsets[f]
     }
 
     /// Appends a facet, computing its oriented plane; fails on a degenerate simplex.
@@ -267,26 +374,27 @@ impl<'a> Builder<'a> {
         ns: &[usize],
         cone: Option<(usize, usize, usize, f64, f64)>,
     ) -> std::result::Result<usize, String> {
-        let d = self.d;
-        let f = self.offsets.len();
-        self.normals.resize((f + 1) * d, 0.0);
+        let d = self.dim.n();
+        let f = self.s.offsets.len();
+        self.s.normals.resize((f + 1) * d, 0.0);
         let mut offset = None;
         if let Some((vis, other, apex, a, c)) = cone {
-            let (head, tail) = self.normals.split_at_mut(f * d);
+            let (head, tail) = self.s.normals.split_at_mut(f * d);
             let normal = &mut tail[..d];
-            for (k, x) in normal.iter_mut().enumerate() {
-                *x = a * head[other * d + k] - c * head[vis * d + k];
+            let (n_other, n_vis) = (&head[other * d..][..d], &head[vis * d..][..d]);
+            for ((x, no), nv) in normal.iter_mut().zip(n_other).zip(n_vis) {
+                *x = a * no - c * nv;
             }
             let len = dot(normal, normal).sqrt();
             // Well conditioned unless the parents are nearly opposite (a knife-edge ridge).
             if len > 1e-2 * (a.abs() + c.abs()) {
                 normal.iter_mut().for_each(|x| *x /= len);
-                let b = dot(normal, &self.pts[apex * d..(apex + 1) * d]);
+                let b = dot(normal, &self.pts[apex * d..][..d]);
                 // Spot-check two vertices (one is not the apex) against drift of the
                 // parents' normals.
                 let on_plane = [vs[0], vs[d - 1]]
                     .iter()
-                    .all(|&v| (dot(normal, &self.pts[v * d..(v + 1) * d]) - b).abs() <= 1e-11 * self.scale);
+                    .all(|&v| (dot(normal, &self.pts[v * d..][..d]) - b).abs() <= 1e-11 * self.scale);
                 let below = dot(normal, &self.center) - b < -1e-12 * self.scale;
                 if on_plane && below {
                     offset = Some(b);
@@ -302,35 +410,39 @@ impl<'a> Builder<'a> {
                 &self.center,
                 &mut self.qr,
                 &mut self.vnorm,
-                &mut self.normals[f * d..(f + 1) * d],
+                &mut self.s.normals[f * d..][..d],
                 self.scale,
             )
             .ok_or("degenerate facet")?,
         };
-        self.offsets.push(offset);
-        self.verts.extend_from_slice(vs);
-        self.nbrs.extend_from_slice(ns);
-        self.alive.push(true);
-        self.outside.push(Vec::new());
+        self.s.offsets.push(offset);
+        if f >= (u32::MAX - 1) as usize || vs[..d].iter().any(|&v| v >= u32::MAX as usize) {
+            return Err("too many facets or points".into());
+        }
+        // `usize::MAX` (no neighbour yet) becomes `u32::MAX`.
+        self.s.verts.extend(vs[..d].iter().map(|&v| v as u32));
+        self.s.nbrs.extend(ns[..d].iter().map(|&n| n.min(u32::MAX as usize) as u32));
+        self.s.alive.push(true);
+        self.s.outside.push(Outside::EMPTY);
         Ok(f)
     }
 
     /// Ridge pairing and local convexity of every pair of neighbouring facets.
     pub(super) fn verify(&self) -> std::result::Result<(), String> {
-        let d = self.d;
+        let d = self.dim.n();
         let tol = 1e-7 * self.scale;
-        for f in (0..self.alive.len()).filter(|&f| self.alive[f]) {
+        for f in (0..self.s.alive.len()).filter(|&f| self.s.alive[f]) {
             for i in 0..d {
-                let g = self.nbrs[f * d + i];
-                if g == usize::MAX || !self.alive[g] {
+                let g = self.s.nbrs[f * d + i] as usize;
+                if g == u32::MAX as usize || !self.s.alive[g] {
                     return Err("facet with a dead or missing neighbour".into());
                 }
                 if g < f {
                     // Each ridge once: the two one-sided convexity tests are equivalent.
                     continue;
                 }
-                let j = (0..d).find(|&j| self.nbrs[g * d + j] == f).ok_or("asymmetric neighbour link")?;
-                if self.dist(f, self.verts[g * d + j]) > tol {
+                let j = (0..d).find(|&j| self.s.nbrs[g * d + j] as usize == f).ok_or("asymmetric neighbour link")?;
+                if self.dist(f, self.s.verts[g * d + j] as usize) > tol {
                     return Err("non-convex ridge".into());
                 }
             }
@@ -338,26 +450,29 @@ impl<'a> Builder<'a> {
         Ok(())
     }
 
-    pub(super) fn finish(self, original: &[f64], joggle: f64, attempts: usize) -> ConvexHull {
-        let d = self.d;
-        let alive: Vec<usize> = (0..self.alive.len()).filter(|&f| self.alive[f]).collect();
-        let mut facet_vertices = Vec::with_capacity(alive.len() * d);
-        let mut normals = Vec::with_capacity(alive.len() * d);
-        let mut offsets = Vec::with_capacity(alive.len());
+    /// The hull of the original (un-joggled) points with this builder's facets.
+    pub(super) fn finish(mut self, original: &[f64], joggle: f64, attempts: usize) -> ConvexHull {
+        let d = self.dim.n();
+        let s = &self.s;
+        let count = s.alive.iter().filter(|&&a| a).count();
+        let mut facet_vertices = Vec::with_capacity(count * d);
+        let mut normals = Vec::with_capacity(count * d);
+        let mut offsets = Vec::with_capacity(count);
         let mut volume = 0.0;
         let mut m = vec![0.0; d * d];
         let factorial: f64 = (1..=d).map(|k| k as f64).product();
-        for &f in &alive {
-            let vs = &self.verts[f * d..(f + 1) * d];
-            facet_vertices.extend_from_slice(vs);
-            normals.extend_from_slice(&self.normals[f * d..(f + 1) * d]);
-            offsets.push(self.offsets[f]);
+        for f in (0..s.alive.len()).filter(|&f| s.alive[f]) {
+            let vs = &s.verts[f * d..][..d];
+            facet_vertices.extend(vs.iter().map(|&v| v as usize));
+            normals.extend_from_slice(&s.normals[f * d..][..d]);
+            offsets.push(s.offsets[f]);
+            let center = &self.center[..d];
             for (row, &v) in m.chunks_exact_mut(d).zip(vs) {
-                for ((x, o), c) in row.iter_mut().zip(&original[v * d..(v + 1) * d]).zip(&self.center) {
+                for ((x, o), c) in row[..d].iter_mut().zip(&original[v as usize * d..][..d]).zip(center) {
                     *x = o - c;
                 }
             }
-            volume += determinant(d, &mut m).abs() / factorial;
+            volume += if d == 6 { determinant6(&m) } else { determinant(d, &mut m) }.abs() / factorial;
         }
         let mut is_vertex = vec![false; original.len() / d];
         facet_vertices.iter().for_each(|&v| is_vertex[v] = true);
@@ -368,118 +483,10 @@ impl<'a> Builder<'a> {
             normals,
             offsets,
             vertices,
-            interior: self.center,
+            interior: std::mem::take(&mut self.center),
             volume,
             joggle,
             attempts,
         }
     }
-}
-
-/// Unit normal (written to `normal`) and offset of the hyperplane through the points `vs`,
-/// oriented so that `center` lies below it. `None` if the points are (numerically)
-/// affinely dependent or the plane passes through `center`.
-#[allow(clippy::too_many_arguments)]
-pub(super) fn plane(
-    d: usize,
-    pts: &[f64],
-    vs: &[usize],
-    center: &[f64],
-    qr: &mut [f64],
-    vnorm: &mut [f64],
-    normal: &mut [f64],
-    scale: f64,
-) -> Option<f64> {
-    let m = d - 1;
-    let x0 = &pts[vs[0] * d..(vs[0] + 1) * d];
-    // Columns of qr: edge vectors x_k − x_0, k = 1..d.
-    let mut max_edge = 0.0_f64;
-    for k in 0..m {
-        let xk = &pts[vs[k + 1] * d..(vs[k + 1] + 1) * d];
-        let col = &mut qr[k * d..(k + 1) * d];
-        for r in 0..d {
-            col[r] = xk[r] - x0[r];
-        }
-        max_edge = max_edge.max(dot(col, col).sqrt());
-    }
-    // Householder QR; the reflector of column k is stored in rows k.. of column k.
-    for k in 0..m {
-        let (head, tail) = qr.split_at_mut((k + 1) * d);
-        let v = &mut head[k * d + k..(k + 1) * d];
-        let norm = dot(v, v).sqrt();
-        if norm <= 1e-12 * max_edge {
-            return None;
-        }
-        let alpha = if v[0] >= 0.0 { -norm } else { norm };
-        v[0] -= alpha;
-        let vv = dot(v, v);
-        vnorm[k] = vv;
-        for j in 0..(m - k - 1) {
-            let col = &mut tail[j * d + k..(j + 1) * d];
-            let s = 2.0 * dot(v, col) / vv;
-            for (c, vi) in col.iter_mut().zip(v.iter()) {
-                *c -= s * vi;
-            }
-        }
-    }
-    // normal = H_0 H_1 … H_{m−1} e_{d−1}, orthogonal to every edge.
-    normal.iter_mut().for_each(|x| *x = 0.0);
-    normal[d - 1] = 1.0;
-    for k in (0..m).rev() {
-        let v = &qr[k * d + k..(k + 1) * d];
-        let s = 2.0 * dot(v, &normal[k..]) / vnorm[k];
-        for (x, vi) in normal[k..].iter_mut().zip(v) {
-            *x -= s * vi;
-        }
-    }
-    let len = dot(normal, normal).sqrt();
-    normal.iter_mut().for_each(|x| *x /= len);
-    let mut offset = dot(normal, x0);
-    let below = dot(normal, center) - offset;
-    if below.abs() <= 1e-12 * scale.max(max_edge) {
-        return None;
-    }
-    if below > 0.0 {
-        normal.iter_mut().for_each(|x| *x = -*x);
-        offset = -offset;
-    }
-    Some(offset)
-}
-
-/// Determinant of the row-major `d × d` matrix `m` (destroyed), by LU with partial pivoting.
-pub(super) fn determinant(d: usize, m: &mut [f64]) -> f64 {
-    let m = &mut m[..d * d];
-    let mut det = 1.0;
-    for k in 0..d {
-        let mut p = k;
-        let mut best = m[k * d + k].abs();
-        for r in (k + 1)..d {
-            let v = m[r * d + k].abs();
-            if v > best {
-                best = v;
-                p = r;
-            }
-        }
-        if best == 0.0 {
-            return 0.0;
-        }
-        if p != k {
-            let (top, bottom) = m.split_at_mut(p * d);
-            top[k * d..(k + 1) * d].swap_with_slice(&mut bottom[..d]);
-            det = -det;
-        }
-        let (top, bottom) = m.split_at_mut((k + 1) * d);
-        let pivot_row = &top[k * d + k..(k + 1) * d];
-        let pivot = pivot_row[0];
-        det *= pivot;
-        let inv = 1.0 / pivot;
-        for row in bottom.chunks_exact_mut(d) {
-            let row = &mut row[k..];
-            let factor = row[0] * inv;
-            for (x, &y) in row.iter_mut().zip(pivot_row) {
-                *x -= factor * y;
-            }
-        }
-    }
-    det
 }

@@ -1,0 +1,99 @@
+//! The optimised quickhull against the previous builder it replaced
+//! (`ConvexHull::from_flat_reference`): same facets, planes, volume and epsilon, bit for bit,
+//! on random grasp wrench spaces (3–9 contacts, point and soft-finger, 4–8 cone edges) and on
+//! random point clouds in 2–7 dimensions, including points with exact duplicates.
+
+use nalgebra::{Point3, Vector3};
+use opengrasp_grasp::{Contact, ContactModel, ContactType, ConvexHull, GraspWrenchSpace, HullOptions, ObjectFrame};
+use proptest::prelude::*;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// Both builds of `coords`: equal results (errors included), checked field by field.
+fn assert_same(dim: usize, coords: &[f64], options: &HullOptions) -> Result<Option<ConvexHull>, TestCaseError> {
+    let new = ConvexHull::from_flat(dim, coords, options);
+    let old = ConvexHull::from_flat_reference(dim, coords, options);
+    match (new, old) {
+        (Ok(a), Ok(b)) => {
+            prop_assert_eq!(a.num_facets(), b.num_facets());
+            for (fa, fb) in a.facets().zip(b.facets()) {
+                prop_assert_eq!(fa.vertices, fb.vertices);
+                let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+                prop_assert_eq!(bits(fa.normal), bits(fb.normal));
+                prop_assert_eq!(fa.offset.to_bits(), fb.offset.to_bits());
+            }
+            prop_assert_eq!(a.volume().to_bits(), b.volume().to_bits());
+            prop_assert_eq!(a.vertices(), b.vertices());
+            prop_assert_eq!(a.interior_point(), b.interior_point());
+            prop_assert_eq!(a.attempts(), b.attempts());
+            prop_assert_eq!(a.joggle().to_bits(), b.joggle().to_bits());
+            let origin = vec![0.0; dim];
+            prop_assert_eq!(a.depth(&origin).to_bits(), b.depth(&origin).to_bits());
+            Ok(Some(a))
+        }
+        (Err(a), Err(b)) => {
+            prop_assert_eq!(a.to_string(), b.to_string());
+            Ok(None)
+        }
+        (a, b) => Err(TestCaseError::fail(format!("new {:?} vs reference {:?}", a.err(), b.err()))),
+    }
+}
+
+fn wrench_coords(rng: &mut ChaCha8Rng, contacts: usize, model: &ContactModel) -> Vec<f64> {
+    let cs: Vec<Contact> = (0..contacts)
+        .map(|_| {
+            let d = Vector3::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0))
+                .normalize();
+            let tilt =
+                Vector3::new(rng.random_range(-0.5..0.5), rng.random_range(-0.5..0.5), rng.random_range(-0.5..0.5));
+            Contact::new(Point3::from(d * rng.random_range(0.5..1.0)), -d + tilt).unwrap()
+        })
+        .collect();
+    let frame = ObjectFrame::new(Point3::origin(), 1.0).unwrap();
+    let ws = GraspWrenchSpace::new(&cs, &frame, model).unwrap();
+    ws.wrenches().iter().flat_map(|w| w.iter().copied()).collect()
+}
+
+#[test]
+fn equivalence_covers_full_hulls_and_degenerate_input() {
+    // A 6-D grasp hull with many facets, and a degenerate set: both builders agree on each.
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let coords = wrench_coords(&mut rng, 6, &ContactModel::default());
+    let hull = assert_same(6, &coords, &HullOptions::default()).unwrap().expect("full-dimensional");
+    assert!(hull.num_facets() > 200, "{} facets", hull.num_facets());
+    assert!(hull.volume() > 0.0);
+    let flat: Vec<f64> = (0..20).flat_map(|i| [i as f64, 2.0 * i as f64, 0.0]).collect();
+    assert!(assert_same(3, &flat, &HullOptions::default()).unwrap().is_none());
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+    #[test]
+    fn grasp_wrench_hulls_are_bit_identical(
+        seed in any::<u64>(),
+        contacts in 3usize..10,
+        mu in 0.1f64..1.2,
+        edges in 4usize..9,
+        soft in any::<bool>(),
+    ) {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let contact_type =
+            if soft { ContactType::SoftFinger { torsional_friction: 0.05 } } else { ContactType::PointWithFriction };
+        let model = ContactModel { friction: mu, cone_edges: edges, contact_type };
+        let coords = wrench_coords(&mut rng, contacts, &model);
+        assert_same(6, &coords, &HullOptions { seed, ..HullOptions::default() })?;
+    }
+
+    #[test]
+    fn random_point_hulls_are_bit_identical(seed in any::<u64>(), dim in 2usize..8, extra in 0usize..40, dup in any::<bool>()) {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let n = dim + 1 + extra;
+        let mut coords: Vec<f64> = (0..n * dim).map(|_| rng.random_range(-1.0..1.0)).collect();
+        if dup {
+            let copy = coords[..dim].to_vec();
+            coords.extend(copy);
+        }
+        assert_same(dim, &coords, &HullOptions::default())?;
+    }
+}
