@@ -327,6 +327,19 @@ pub trait PhysicsEngine: Send {
     /// [`CoreError::InvalidHandle`] or [`CoreError::NonFinite`].
     fn set_object_pose(&mut self, object: ObjectId, pose: Isometry3<f64>) -> Result<()>;
 
+    /// Clamps an object in place (`fixed = true`: it keeps its pose and zero velocity, and
+    /// contacts push against it as against a static body) or frees it again (`false`: it
+    /// moves with its mass and inertia, from rest). A fixture that holds an object while a
+    /// hand closes on it, so the first finger to touch does not push it away.
+    ///
+    /// # Errors
+    /// [`CoreError::InvalidHandle`] for an unknown object, [`CoreError::Physics`] if the
+    /// backend cannot clamp objects (the default).
+    fn set_object_fixed(&mut self, object: ObjectId, fixed: bool) -> Result<()> {
+        let _ = (object, fixed);
+        Err(CoreError::Physics { reason: format!("{} cannot clamp objects", self.name()) })
+    }
+
     /// Applies an instantaneous impulse (N·s) at a world point of an object.
     ///
     /// # Errors

@@ -11,7 +11,7 @@ use rapier3d_f64::parry::mass_properties::MassProperties;
 use rapier3d_f64::prelude::{
     BroadPhaseBvh, CCDSolver, ColliderHandle, ColliderSet, ImpulseJointHandle, ImpulseJointSet, IntegrationParameters,
     IslandManager, MultibodyJointHandle, MultibodyJointSet, NarrowPhase, PhysicsPipeline, RigidBodyBuilder,
-    RigidBodyHandle, RigidBodySet,
+    RigidBodyHandle, RigidBodySet, RigidBodyType,
 };
 
 use super::{
@@ -310,6 +310,21 @@ impl PhysicsEngine for RapierBackend {
         b.set_position(pose, true);
         b.set_linvel(Vector3::zeros(), true);
         b.set_angvel(Vector3::zeros(), true);
+        Ok(())
+    }
+
+    fn set_object_fixed(&mut self, object: ObjectId, fixed: bool) -> Result<()> {
+        if fixed && self.object(object)?.attachment.is_some() {
+            self.detach(object)?;
+        }
+        let body = self.object(object)?.body;
+        let b = &mut self.bodies[body];
+        let kind = if fixed { RigidBodyType::Fixed } else { RigidBodyType::Dynamic };
+        if b.body_type() != kind {
+            b.set_body_type(kind, true);
+            b.set_linvel(Vector3::zeros(), true);
+            b.set_angvel(Vector3::zeros(), true);
+        }
         Ok(())
     }
 
