@@ -322,16 +322,21 @@ fn upright_cylinder_rests_on_its_end() {
 }
 
 #[cfg(feature = "rapier")]
-#[test]
-fn sphere_falls_half_g_t_squared() {
-    let (h, t): (f64, f64) = (2.0, 0.5);
+/// A 10 cm, 0.1 kg ball at height `h` above the ground of [`drop_scene`].
+fn ball_scene(h: f64) -> Scene {
     let ball = SceneObject::new(
         "ball",
         Isometry3::translation(0.0, 0.0, h),
         vec![Shape::at_origin(Geometry::Sphere { radius: 0.05 })],
         0.1,
     );
-    let scene = drop_scene(ball, Some(0.2));
+    drop_scene(ball, Some(0.2))
+}
+
+#[test]
+fn sphere_falls_half_g_t_squared() {
+    let (h, t): (f64, f64) = (2.0, 0.5);
+    let scene = ball_scene(h);
     let dt = 1.0 / 240.0;
     let mut engine = RapierBackend::from_scene(&scene, &PhysicsOptions::default()).unwrap();
     engine.step_n((t / dt).round() as usize, dt).unwrap();
@@ -649,13 +654,7 @@ mod mock_properties {
 #[test]
 fn clamped_object_stays_put_then_falls_from_rest_when_freed() {
     let (h, t): (f64, f64) = (2.0, 0.5);
-    let ball = SceneObject::new(
-        "ball",
-        Isometry3::translation(0.0, 0.0, h),
-        vec![Shape::at_origin(Geometry::Sphere { radius: 0.05 })],
-        0.1,
-    );
-    let scene = drop_scene(ball, Some(0.2));
+    let scene = ball_scene(h);
     let dt = 1.0 / 240.0;
     let mut engine = RapierBackend::from_scene(&scene, &PhysicsOptions::default()).unwrap();
     engine.set_object_fixed(ObjectId(0), true).unwrap();

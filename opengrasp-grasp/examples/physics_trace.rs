@@ -1,14 +1,15 @@
 //! Traces the contact forces of physics hold checks: why does a force-closure grasp hold or not?
 //!
 //! ```text
-//! cargo run --release -p opengrasp-grasp --example physics_trace -- [HAND] [OBJECT] [K|all]
+//! cargo run --release -p opengrasp-grasp --example physics_trace -- [HAND] [OBJECT] [K|all] [SQUEEZE]
 //! ```
 //! HAND is `armar3` (default), `barrett` or `sdh`; OBJECT a stock object (default `salt_can`).
 //! The force-closure palm grasps of both reference planners (every `n/200`-th candidate) are
 //! listed; `all` runs the hold check on ten of them, spread evenly, and prints the outcomes;
 //! `K` (0..9, default 0) traces the K-th of those ten: its evaluator contacts, then the
 //! simulated contact forces per link at the end of the clamped squeeze and 50 ms after the
-//! release, with the net force the contacts put on the object.
+//! release, with the net force the contacts put on the object. SQUEEZE overrides
+//! [`PhysicsCheckOptions::squeeze`].
 
 use nalgebra::Vector3;
 use opengrasp_assets::{hands, objects};
@@ -47,7 +48,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if grasps.is_empty() {
         return Ok(());
     }
-    let options = PhysicsCheckOptions::default();
+    let mut options = PhysicsCheckOptions::default();
+    if let Some(squeeze) = args.get(3) {
+        options.squeeze = squeeze.parse()?;
+    }
     let pick = |k: usize| &grasps[k * grasps.len() / 10];
     if args.get(2).map(String::as_str) == Some("all") {
         for k in 0..10 {
