@@ -8,7 +8,8 @@
 //!   force has a component `F tan α` pushing the wedge out of the hand, which friction holds
 //!   iff `μ ≥ tan α` (the squeeze line lies inside the friction cone), whatever `F`.
 //!
-//! Each case is run just below and just above its analytic threshold.
+//! Each case is run just below and just above its analytic threshold (5 % below; 5 % above
+//! for the box, 15 % for the wedge).
 
 use nalgebra::{Isometry3, Point3, Vector3};
 use opengrasp_core::hand::{FingerSpec, Hand, HandSpec};
@@ -117,19 +118,20 @@ fn box_pinch_holds_its_weight_iff_two_mu_f_exceeds_mg() {
     let mass = 1.0;
     let threshold = mass * 9.81 / (2.0 * PAD_FORCE); // 0.49
     let along_pads = options(vec![Vector3::x(), -Vector3::x()]);
-    let slips = check(0.0, mass, 0.85 * threshold, &along_pads);
-    let holds = check(0.0, mass, 1.15 * threshold, &along_pads);
+    let slips = check(0.0, mass, 0.95 * threshold, &along_pads);
+    let holds = check(0.0, mass, 1.05 * threshold, &along_pads);
     println!("box pinch: μ* = {threshold:.3}; below {slips:?}; above {holds:?}");
-    assert!(slips.results.iter().all(|&r| r != HoldResult::Held), "{slips:?}");
-    // Sliding under (1 - 0.85) g, it leaves the 6 cm pads and falls (measured 31 cm in
-    // 0.5 s); above the threshold it stays to a micrometre.
-    assert!(slips.translations.iter().all(|&t| t > 0.1), "{slips:?}");
+    // 5 % below the threshold the box slides with (1 - 0.95) g against kinetic friction:
+    // ½ · 0.05 g · (0.5 s)² = 6.13 cm, measured 6.14 cm; 5 % above it stays to a micrometre.
+    let sliding = 0.5 * 0.05 * 9.81 * 0.5f64.powi(2);
+    assert_eq!(slips.results, vec![HoldResult::Slipped; 2], "{slips:?}");
+    assert!(slips.translations.iter().all(|&t| (t - sliding).abs() < 0.05 * sliding), "{slips:?}");
     assert_eq!(holds.results, vec![HoldResult::Held; 2], "{holds:?}");
-    assert!(holds.translations.iter().all(|&t| t < 0.005), "{holds:?}");
+    assert!(holds.translations.iter().all(|&t| t < 1e-6), "{holds:?}");
     // Without gravity the pinch itself moves neither box.
     assert!(slips.grip_translation < 1e-3 && holds.grip_translation < 1e-3, "{slips:?} {holds:?}");
     // Deterministic to the last bit.
-    assert_eq!(check(0.0, mass, 1.15 * threshold, &along_pads), holds);
+    assert_eq!(check(0.0, mass, 1.05 * threshold, &along_pads), holds);
 }
 
 #[test]
@@ -138,11 +140,12 @@ fn wedge_pinch_squeezes_out_iff_mu_is_below_tan_alpha() {
     let threshold = alpha.tan(); // 0.364
                                  // Gravity along the prism axis only; what matters here is the gravity-free control run.
     let light = options(vec![Vector3::x()]);
-    let out = check(alpha, 0.1, 0.85 * threshold, &light);
+    let out = check(alpha, 0.1, 0.95 * threshold, &light);
     let stays = check(alpha, 0.1, 1.15 * threshold, &light);
     println!("wedge pinch, α = 20°: μ* = {threshold:.3}; below {out:?}; above {stays:?}");
-    // Below: squeezed out of the 5 cm pads (measured 37 cm in 0.7 s). Above: it settles
-    // within a few millimetres (measured 2.4 mm, the pads sinking into the contacts).
+    // 5 % below: squeezed out of the 5 cm pads (measured 21 cm in 0.7 s). 15 % above: it
+    // settles within a few millimetres (measured 2.4 mm, the pads sinking into the contacts;
+    // 4.8 mm at 5 % above).
     assert!(out.grip_translation > 0.1, "{out:?}");
     assert!(stays.grip_translation < 5e-3, "{stays:?}");
 }
