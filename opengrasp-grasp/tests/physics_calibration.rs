@@ -137,8 +137,9 @@ fn box_pinch_holds_its_weight_iff_two_mu_f_exceeds_mg() {
 #[test]
 fn wedge_pinch_squeezes_out_iff_mu_is_below_tan_alpha() {
     let alpha = 20f64.to_radians();
-    let threshold = alpha.tan(); // 0.364
-                                 // Gravity along the prism axis only; what matters here is the gravity-free control run.
+    // μ* = tan 20° = 0.364. Gravity along the prism axis only: what matters here is the
+    // gravity-free control run.
+    let threshold = alpha.tan();
     let light = options(vec![Vector3::x()]);
     let out = check(alpha, 0.1, 0.95 * threshold, &light);
     let stays = check(alpha, 0.1, 1.15 * threshold, &light);
