@@ -6,7 +6,8 @@
 //! HAND is `armar3` (default), `barrett` or `sdh`; OBJECT a stock object (default `salt_can`).
 //! The force-closure palm grasps of both reference planners (every `n/200`-th candidate) are
 //! listed; `all` runs the hold check on ten of them, spread evenly, and prints the outcomes;
-//! `K` (0..9, default 0) traces the K-th of those ten: its evaluator contacts, then the
+//! `K` (0..9, default 0) traces the K-th of those ten: its evaluator contacts with the share
+//! of the grip the force-closure solver gives each (`evaluation_contacts`), then the
 //! simulated contact forces per link at the end of the clamped squeeze and 50 ms after the
 //! release, with the net force the contacts put on the object. SQUEEZE overrides
 //! [`PhysicsCheckOptions::squeeze`].
@@ -15,9 +16,10 @@ use nalgebra::Vector3;
 use opengrasp_assets::{hands, objects};
 use opengrasp_core::physics::{ContactBody, PhysicsEngine, RapierBackend};
 use opengrasp_core::scene::ObjectId;
+use opengrasp_grasp::contact::ObjectFrame;
 use opengrasp_grasp::evaluator::{physics_check, EvaluatorOptions, GraspEvaluator, PhysicsCheckOptions};
 use opengrasp_grasp::planners::{GraspPlanner, GraspRequest, MedialAxisPlanner, SurfaceNormalPlanner};
-use opengrasp_grasp::tactile::sources::{squeeze_engine, TactileSeriesOptions};
+use opengrasp_grasp::tactile::sources::{evaluation_contacts, squeeze_engine, TactileSeriesOptions};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -68,13 +70,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let grasp = pick(args.get(2).map_or(Ok(0), |s| s.parse())?);
     let robot = hand.robot();
-    for c in &grasp.contacts {
+    // The force-closure solver's distribution of a 100 N total normal force over the contacts
+    // (forces the evaluator's test assumes the hand can apply), next to each contact.
+    let frame = ObjectFrame::from_points(object.center_of_mass(), object.mesh.vertices())?;
+    let mut model = EvaluatorOptions::default().quality.contact;
+    model.friction = object.friction;
+    let solver = evaluation_contacts(&hand, grasp, &frame, &model, 100.0)?;
+    for (c, f) in grasp.contacts.iter().zip(&solver) {
         let (p, n) = (c.contact.point, c.contact.normal);
+        let name = &robot.link(opengrasp_core::model::LinkId(c.link)).name;
         println!(
-            "evaluator contact {:10} at {:.3?} inward normal {:.2?}",
-            robot.link(opengrasp_core::model::LinkId(c.link)).name,
+            "evaluator contact {name:10} at {:.3?} inward normal {:.2?}; FC solver: {:5.1} % of the grip",
             p.coords.as_slice(),
-            n.as_slice()
+            n.as_slice(),
+            f.force
         );
     }
     let squeeze =
