@@ -1,7 +1,7 @@
 //! Traces the contact forces of physics hold checks: why does a force-closure grasp hold or not?
 //!
 //! ```text
-//! cargo run --release -p opengrasp-grasp --example physics_trace -- [HAND] [OBJECT] [K|all] [SQUEEZE]
+//! cargo run --release -p opengrasp-grasp --example physics_trace -- [HAND] [OBJECT] [K|all] [SQUEEZE] [solo]
 //! ```
 //! HAND is `armar3` (default), `barrett` or `sdh`; OBJECT a stock object (default `salt_can`).
 //! The force-closure palm grasps of both reference planners (every `n/200`-th candidate) are
@@ -10,7 +10,8 @@
 //! of the grip the force-closure solver gives each (`evaluation_contacts`), then the
 //! simulated contact forces per link at the end of the clamped squeeze and 50 ms after the
 //! release, with the net force the contacts put on the object. SQUEEZE overrides
-//! [`PhysicsCheckOptions::squeeze`].
+//! [`PhysicsCheckOptions::squeeze`]; `solo` gives every coupled joint its own full motor
+//! (`coupled_actuators` off) for comparison with the shared actuator.
 
 use nalgebra::Vector3;
 use opengrasp_assets::{hands, objects};
@@ -54,6 +55,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Some(squeeze) = args.get(3) {
         options.squeeze = squeeze.parse()?;
     }
+    options.physics.coupled_actuators = args.get(4).map(String::as_str) != Some("solo");
     let pick = |k: usize| &grasps[k * grasps.len() / 10];
     if args.get(2).map(String::as_str) == Some("all") {
         for k in 0..10 {

@@ -51,7 +51,9 @@ pub struct PhysicsCheckOptions {
     /// object's friction coefficient, so the contacts have the μ the evaluator assumed).
     /// Default: [`PhysicsOptions::default`] with `contact_frequency` 30 Hz (rapier's own
     /// default): with stiffer contacts an object squeezed hard creeps through the grip by
-    /// centimetres per second (a solver artefact, measured with rapier 0.30).
+    /// centimetres per second (a solver artefact, measured with rapier 0.30); and
+    /// [`PhysicsOptions::coupled_actuators`] on, so each of the hand's motors drives its coupled
+    /// joints with its own torque in total.
     pub physics: PhysicsOptions,
 }
 
@@ -67,7 +69,7 @@ impl Default for PhysicsCheckOptions {
             max_rotation: 0.35,
             drop_translation: 0.1,
             fixture: true,
-            physics: PhysicsOptions { contact_frequency: 30.0, ..PhysicsOptions::default() },
+            physics: PhysicsOptions { contact_frequency: 30.0, coupled_actuators: true, ..PhysicsOptions::default() },
         }
     }
 }

@@ -38,6 +38,9 @@ use colliders::{decode, ContactFilter};
 ///   the joint's effort limit) tracking a reference that moves towards the position target at the
 ///   joint's velocity limit, with the reference velocity as feed-forward; joint limits are
 ///   enforced. Mimic joints track `multiplier * leader reference + offset` with their own motor.
+///   With [`PhysicsOptions::coupled_actuators`] a coupled chain is one actuator: the leader's
+///   effort limit `τ` is shared so that joint `i` with multiplier `m_i` may exert
+///   `τ |m_i| / Σ m_k²`, hence `Σ m_i τ_i = τ` (virtual work).
 /// - Geometry: boxes, spheres and capsules map to the same primitives; cylinders are rotated
 ///   from parry's y axis to the URDF z axis; meshes become convex hulls on moving bodies and
 ///   triangle meshes on static bodies.
