@@ -490,15 +490,21 @@ fn sdh_parts(p: &str) -> Parts {
     parts
 }
 
-/// Open SDH preshape: finger rotation `rotation`, proximal joints opened outwards by 1 rad and
-/// distal joints bent back so the distal phalanges stand parallel: the opposing fingers are
-/// about 19 cm apart, so the palm reaches objects as wide as the bread box (opened by only
-/// 0.6 rad, they were 6.5 cm apart at the height of an 8 cm can's axis and touched first).
+/// Proximal opening (rad) of the open SDH preshapes, just inside the joints' −90° limit: the
+/// proximal phalanges lie almost flat, pointing away from the palm, so a flat face or a can
+/// laid on the hand rests on the finger-base modules (palm links) rather than on them. Opened
+/// by only 1 rad they leaned out at 57°, and their inner edges, 34 mm above the palm plate
+/// and 16 mm above the bases, stood over the base modules and touched first.
+const SDH_OPEN: f64 = 1.45;
+
+/// Open SDH preshape: finger rotation `rotation`, proximal joints opened by [`SDH_OPEN`] and
+/// distal joints bent back by as much, so the distal phalanges stand upright about 21 cm
+/// apart and the palm reaches objects as wide as the bread box.
 fn sdh_open(p: &str, rotation: f64) -> Vec<(String, f64)> {
     let mut v = vec![(format!("{p}f1_rotation"), rotation)];
     for f in ["f1", "f2", "f3"] {
-        v.push((format!("{p}{f}_j2"), -1.0));
-        v.push((format!("{p}{f}_j3"), 1.0));
+        v.push((format!("{p}{f}_j2"), -SDH_OPEN));
+        v.push((format!("{p}{f}_j3"), SDH_OPEN));
     }
     v
 }

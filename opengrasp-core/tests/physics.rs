@@ -322,16 +322,21 @@ fn upright_cylinder_rests_on_its_end() {
 }
 
 #[cfg(feature = "rapier")]
-#[test]
-fn sphere_falls_half_g_t_squared() {
-    let (h, t): (f64, f64) = (2.0, 0.5);
+/// A 10 cm, 0.1 kg ball at height `h` above the ground of [`drop_scene`].
+fn ball_scene(h: f64) -> Scene {
     let ball = SceneObject::new(
         "ball",
         Isometry3::translation(0.0, 0.0, h),
         vec![Shape::at_origin(Geometry::Sphere { radius: 0.05 })],
         0.1,
     );
-    let scene = drop_scene(ball, Some(0.2));
+    drop_scene(ball, Some(0.2))
+}
+
+#[test]
+fn sphere_falls_half_g_t_squared() {
+    let (h, t): (f64, f64) = (2.0, 0.5);
+    let scene = ball_scene(h);
     let dt = 1.0 / 240.0;
     let mut engine = RapierBackend::from_scene(&scene, &PhysicsOptions::default()).unwrap();
     engine.step_n((t / dt).round() as usize, dt).unwrap();
@@ -644,4 +649,28 @@ mod mock_properties {
             prop_assert_eq!(engine.joint_velocities(arm).unwrap(), vec![0.0, 0.0]);
         }
     }
+}
+
+#[test]
+fn clamped_object_stays_put_then_falls_from_rest_when_freed() {
+    let (h, t): (f64, f64) = (2.0, 0.5);
+    let scene = ball_scene(h);
+    let dt = 1.0 / 240.0;
+    let mut engine = RapierBackend::from_scene(&scene, &PhysicsOptions::default()).unwrap();
+    engine.set_object_fixed(ObjectId(0), true).unwrap();
+    engine.step_n((t / dt).round() as usize, dt).unwrap();
+    // Clamped: gravity does not move it at all.
+    assert_eq!(engine.object_pose(ObjectId(0)).unwrap(), scene.objects()[0].pose);
+    assert_eq!(engine.object_velocity(ObjectId(0)).unwrap(), BodyVelocity::default());
+    // Freed: it falls from rest, as a ball dropped at time zero (same bound as the free fall).
+    engine.set_object_fixed(ObjectId(0), false).unwrap();
+    engine.step_n((t / dt).round() as usize, dt).unwrap();
+    let fallen = h - engine.object_pose(ObjectId(0)).unwrap().translation.vector.z;
+    let analytic = 0.5 * G * t * t;
+    assert!((fallen - analytic).abs() <= 0.5 * G * (dt / 8.0) * t + 1e-6, "fallen {fallen}, analytic {analytic}");
+    // Bad handles are errors on both backends; the mock's free objects stay put anyway.
+    assert!(matches!(engine.set_object_fixed(ObjectId(7), true), Err(CoreError::InvalidHandle { .. })));
+    let mut mock = MockBackend::from_scene(&scene, &PhysicsOptions::default()).unwrap();
+    mock.set_object_fixed(ObjectId(0), true).unwrap();
+    assert!(matches!(mock.set_object_fixed(ObjectId(7), true), Err(CoreError::InvalidHandle { .. })));
 }

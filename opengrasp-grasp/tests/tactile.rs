@@ -296,7 +296,9 @@ fn sdh_physics_squeeze_gives_a_tactile_time_series() {
     assert_eq!(series, again);
 }
 
-/// Every finger pad faces the way its finger closes; palm pads face along the approach.
+/// Every finger pad faces the way its finger closes from the open hand (within 37°: the SDH's
+/// flat-opened fingers start their distal pads moving 33° upwards); palm pads face along the
+/// approach.
 fn check_layout(hand: &opengrasp_core::hand::Hand, specs: &[PadSpec]) {
     let robot = hand.robot();
     let q = hand.open_configuration();
@@ -315,7 +317,7 @@ fn check_layout(hand: &opengrasp_core::hand::Hand, specs: &[PadSpec]) {
             let approach = fk.as_slice()[l] * (hand.palm_frame().rotation * hand.approach().into_inner());
             assert!(normal.dot(&approach) > 0.99, "{} faces {normal:?}", s.name);
         } else {
-            assert!(moved.normalize().dot(&normal) > 0.9, "{} faces {normal:?}, moves {moved:?}", s.name);
+            assert!(moved.normalize().dot(&normal) > 0.8, "{} faces {normal:?}, moves {moved:?}", s.name);
         }
     }
 }

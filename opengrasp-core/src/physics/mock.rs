@@ -188,6 +188,12 @@ impl PhysicsEngine for MockBackend {
         Ok(())
     }
 
+    /// Validated; free objects of the mock stay put anyway.
+    fn set_object_fixed(&mut self, object: ObjectId, fixed: bool) -> Result<()> {
+        let _ = fixed;
+        self.object(object).map(|_| ())
+    }
+
     /// Validated, then ignored (the mock has no dynamics).
     fn apply_object_impulse(&mut self, object: ObjectId, impulse: Vector3<f64>, point: Point3<f64>) -> Result<()> {
         self.object(object)?;

@@ -88,6 +88,13 @@ pub struct PhysicsOptions {
     /// Contact penetration tolerated without correction (m); resting contacts settle at about
     /// this depth plus a few tenths of a millimetre. Default `1e-4`.
     pub allowed_penetration: f64,
+    /// Coupled joints share one actuator (rapier): the effort limit `τ` of a configuration dof is
+    /// split over the joints it drives so that joint `i` with mimic multiplier `m_i` may exert
+    /// `τ |m_i| / Σ m_k²`, hence `Σ m_i τ_i = τ` (virtual work). When `false` every mimic joint
+    /// has a motor with its own full effort limit, so a chain of `n` coupled joints acts with
+    /// about `n` actuators' torque. Joints driven alone are unaffected. Default `false` (the
+    /// motion benchmarks' records); the grasp physics check turns it on.
+    pub coupled_actuators: bool,
 }
 
 impl Default for PhysicsOptions {
@@ -106,6 +113,7 @@ impl Default for PhysicsOptions {
             link_friction: 0.8,
             contact_frequency: 120.0,
             allowed_penetration: 1e-4,
+            coupled_actuators: false,
         }
     }
 }
@@ -326,6 +334,19 @@ pub trait PhysicsEngine: Send {
     /// # Errors
     /// [`CoreError::InvalidHandle`] or [`CoreError::NonFinite`].
     fn set_object_pose(&mut self, object: ObjectId, pose: Isometry3<f64>) -> Result<()>;
+
+    /// Clamps an object in place (`fixed = true`: it keeps its pose and zero velocity, and
+    /// contacts push against it as against a static body) or frees it again (`false`: it
+    /// moves with its mass and inertia, from rest). A fixture that holds an object while a
+    /// hand closes on it, so the first finger to touch does not push it away.
+    ///
+    /// # Errors
+    /// [`CoreError::InvalidHandle`] for an unknown object, [`CoreError::Physics`] if the
+    /// backend cannot clamp objects (the default).
+    fn set_object_fixed(&mut self, object: ObjectId, fixed: bool) -> Result<()> {
+        let _ = (object, fixed);
+        Err(CoreError::Physics { reason: format!("{} cannot clamp objects", self.name()) })
+    }
 
     /// Applies an instantaneous impulse (N·s) at a world point of an object.
     ///

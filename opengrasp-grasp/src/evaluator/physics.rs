@@ -2,12 +2,12 @@
 
 use nalgebra::{Isometry3, Vector3};
 use opengrasp_core::hand::Hand;
-use opengrasp_core::kinematics::forward_kinematics;
 use opengrasp_core::physics::{PhysicsEngine, PhysicsOptions, RapierBackend};
-use opengrasp_core::scene::Scene;
+use opengrasp_core::scene::ObjectId;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{GraspError, Result};
+use crate::tactile::sources::{squeeze_engine, TactileSeriesOptions};
 use opengrasp_core::object::ObjectModel;
 
 use super::{EvaluationStatus, GraspEvaluation};
@@ -36,9 +36,13 @@ pub struct PhysicsCheckOptions {
     pub max_translation: f64,
     /// ... and turns it less than this (rad), measured the same way. Default: 0.35 (20°).
     pub max_rotation: f64,
-    /// Hold the object at its evaluated pose while the fingers squeeze during `settle` (as a
-    /// table or fixture supports it while a real hand closes), then release it: the fingers
-    /// meet it one after the other without pushing it away in zero gravity. Default: true.
+    /// Clamp the object at its evaluated pose while the fingers squeeze during `settle` (as a
+    /// table or fixture holds it while a real hand closes), then release it from rest: the
+    /// fingers press on an immovable object, so the first to touch does not push it away and
+    /// the squeeze does not sink the fingers into it. (Teleporting the object back every step
+    /// instead let the fingers advance into it by the distance it was pushed each step: the
+    /// contacts then released millimetres of penetration at once and threw objects out of
+    /// the Barrett hand.) Default: true.
     pub fixture: bool,
     /// An object that is not held counts as dropped if gravity moved it farther than this
     /// (m), as slipped (it moved in the hand but stayed near it) otherwise. Default: 0.1.
@@ -47,7 +51,9 @@ pub struct PhysicsCheckOptions {
     /// object's friction coefficient, so the contacts have the μ the evaluator assumed).
     /// Default: [`PhysicsOptions::default`] with `contact_frequency` 30 Hz (rapier's own
     /// default): with stiffer contacts an object squeezed hard creeps through the grip by
-    /// centimetres per second (a solver artefact, measured with rapier 0.30).
+    /// centimetres per second (a solver artefact, measured with rapier 0.30); and
+    /// [`PhysicsOptions::coupled_actuators`] on, so each of the hand's motors drives its coupled
+    /// joints with its own torque in total.
     pub physics: PhysicsOptions,
 }
 
@@ -63,7 +69,7 @@ impl Default for PhysicsCheckOptions {
             max_rotation: 0.35,
             drop_translation: 0.1,
             fixture: true,
-            physics: PhysicsOptions { contact_frequency: 30.0, ..PhysicsOptions::default() },
+            physics: PhysicsOptions { contact_frequency: 30.0, coupled_actuators: true, ..PhysicsOptions::default() },
         }
     }
 }
@@ -167,36 +173,26 @@ pub fn physics_check_with<E: PhysicsEngine>(
             return Err(GraspError::InvalidParameter { name, reason: format!("must be finite and >= 0, got {v}") });
         }
     }
-    let robot = hand.robot();
-    let q = &evaluation.q;
-    let fk = forward_kinematics(robot, q)?;
-    let root_from_palm = fk.as_slice()[hand.palm().0] * hand.palm_frame();
-    let base = evaluation.hand_pose * root_from_palm.inverse();
-    let mut target = q.clone();
-    for (d, &v) in hand.closing_velocity().iter().enumerate() {
-        // `0.0_f64.signum()` is 1: joints that do not close must hold their value.
-        if v != 0.0 {
-            target[d] += options.squeeze * v.signum();
-        }
-    }
-    robot.clamp_configuration(&mut target);
-    let mut scene = Scene::new("physics check");
-    let oid = scene.add_object(object.to_scene_object(Isometry3::identity()))?;
-    let rid = scene.add_robot("hand", hand.robot_arc(), base)?;
-    scene.set_robot_configuration(rid, q)?;
-    let physics =
-        PhysicsOptions { gravity: Vector3::zeros(), link_friction: object.friction, ..options.physics.clone() };
-    let dt = physics.timestep;
+    // The hand fixed at its pose, the closing joints commanded `squeeze` past the closed
+    // configuration, the object (the scene's only one) free, its friction on the links.
+    let squeeze = TactileSeriesOptions {
+        squeeze: options.squeeze,
+        gravity: Vector3::zeros(),
+        physics: options.physics.clone(),
+        ..TactileSeriesOptions::default()
+    };
+    let oid = ObjectId(0);
+    let dt = options.physics.timestep;
     let (settle_steps, steps) = ((options.settle / dt).ceil() as usize, (options.duration / dt).ceil() as usize);
     // Settle the squeezing fingers without gravity, then run with `gravity` (zero: control).
     let run = |gravity: Vector3<f64>| -> Result<Isometry3<f64>> {
-        let mut engine = E::from_scene(&scene, &physics)?;
-        engine.set_joint_position_targets(rid, &target)?;
-        for _ in 0..settle_steps {
-            engine.step(dt)?;
-            if options.fixture {
-                engine.set_object_pose(oid, Isometry3::identity())?;
-            }
+        let (mut engine, _) = squeeze_engine::<E>(hand, object, evaluation, &squeeze)?;
+        if options.fixture {
+            engine.set_object_fixed(oid, true)?;
+        }
+        engine.step_n(settle_steps, dt)?;
+        if options.fixture {
+            engine.set_object_fixed(oid, false)?;
         }
         engine.set_gravity(gravity)?;
         engine.step_n(steps, dt)?;

@@ -11,7 +11,7 @@ use rapier3d_f64::parry::mass_properties::MassProperties;
 use rapier3d_f64::prelude::{
     BroadPhaseBvh, CCDSolver, ColliderHandle, ColliderSet, ImpulseJointHandle, ImpulseJointSet, IntegrationParameters,
     IslandManager, MultibodyJointHandle, MultibodyJointSet, NarrowPhase, PhysicsPipeline, RigidBodyBuilder,
-    RigidBodyHandle, RigidBodySet,
+    RigidBodyHandle, RigidBodySet, RigidBodyType,
 };
 
 use super::{
@@ -38,6 +38,9 @@ use colliders::{decode, ContactFilter};
 ///   the joint's effort limit) tracking a reference that moves towards the position target at the
 ///   joint's velocity limit, with the reference velocity as feed-forward; joint limits are
 ///   enforced. Mimic joints track `multiplier * leader reference + offset` with their own motor.
+///   With [`PhysicsOptions::coupled_actuators`] a coupled chain is one actuator: the leader's
+///   effort limit `τ` is shared so that joint `i` with multiplier `m_i` may exert
+///   `τ |m_i| / Σ m_k²`, hence `Σ m_i τ_i = τ` (virtual work).
 /// - Geometry: boxes, spheres and capsules map to the same primitives; cylinders are rotated
 ///   from parry's y axis to the URDF z axis; meshes become convex hulls on moving bodies and
 ///   triangle meshes on static bodies.
@@ -310,6 +313,21 @@ impl PhysicsEngine for RapierBackend {
         b.set_position(pose, true);
         b.set_linvel(Vector3::zeros(), true);
         b.set_angvel(Vector3::zeros(), true);
+        Ok(())
+    }
+
+    fn set_object_fixed(&mut self, object: ObjectId, fixed: bool) -> Result<()> {
+        if fixed && self.object(object)?.attachment.is_some() {
+            self.detach(object)?;
+        }
+        let body = self.object(object)?.body;
+        let b = &mut self.bodies[body];
+        let kind = if fixed { RigidBodyType::Fixed } else { RigidBodyType::Dynamic };
+        if b.body_type() != kind {
+            b.set_body_type(kind, true);
+            b.set_linvel(Vector3::zeros(), true);
+            b.set_angvel(Vector3::zeros(), true);
+        }
         Ok(())
     }
 

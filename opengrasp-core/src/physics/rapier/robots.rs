@@ -13,7 +13,7 @@ use rapier3d_f64::prelude::{
 use super::{advance_reference, velocity_limit, ContactBody, JointTarget};
 use crate::error::{CoreError, Result};
 use crate::kinematics::forward_kinematics_into;
-use crate::model::{JointId, JointKind, LinkId, Shape};
+use crate::model::{JointId, JointKind, LinkId, Robot, Shape};
 use crate::scene::{ObjectId, RobotId, Scene};
 
 use super::colliders::{convert, encode};
@@ -146,9 +146,9 @@ impl RapierBackend {
                 if joint.kind != JointKind::Continuous {
                     builder = builder.limits(axis, [l.lower, l.upper]);
                 }
-                if l.effort.is_finite() && l.effort > 0.0 {
-                    builder = builder.motor_max_force(axis, l.effort);
-                }
+            }
+            if let Some(effort) = motor_effort(&robot, j, self.options.coupled_actuators) {
+                builder = builder.motor_max_force(axis, effort);
             }
             let child_body = link_body[joint.child.0].0;
             let handle =
@@ -290,6 +290,74 @@ impl RapierBackend {
                 r.q[i] = value;
                 r.qd[i] = mb.joint_velocity(link).get(0).copied().unwrap_or(0.0);
             }
+        }
+    }
+}
+
+/// The force limit of joint `j`'s motor: its share of the actuator that drives it.
+///
+/// One actuator (a configuration dof, with the effort limit of its own joint) drives every joint
+/// coupled to it by mimic multipliers `m_i` (`dq_i = m_i dq`). By virtual work the actuator's
+/// torque is `τ = Σ m_i τ_i`, so joint `i` gets `τ_i = τ |m_i| / Σ m_k²`: the coupled chain
+/// together delivers the actuator's torque, not one full torque per joint. A dof driving a single
+/// joint keeps that joint's effort limit. Without `coupled`, every joint has its own effort limit.
+/// `None` when the limit is not finite and positive.
+pub(super) fn motor_effort(robot: &Robot, j: JointId, coupled: bool) -> Option<f64> {
+    if !coupled {
+        let effort = robot.joint(j).limits?.effort;
+        return (effort.is_finite() && effort > 0.0).then_some(effort);
+    }
+    let (dof, factor) = robot.driving_dof(j)?;
+    let effort = robot.joint(robot.dof_joint(dof)).limits?.effort;
+    if !(effort.is_finite() && effort > 0.0) {
+        return None;
+    }
+    let sum_sq: f64 = (0..robot.joints().len())
+        .filter_map(|i| robot.driving_dof(JointId(i)))
+        .filter(|&(d, _)| d == dof)
+        .map(|(_, m)| m * m)
+        .sum();
+    (sum_sq > 0.0).then(|| effort * factor.abs() / sum_sq)
+}
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::Vector3;
+
+    use super::motor_effort;
+    use crate::model::{JointKind, JointSpec, Link, RobotBuilder};
+
+    /// One 6 N·m actuator drives `a` directly, `b` at 0.5 × and `c` at −2 × `b` (a chain of
+    /// mimics); `d` has its own 3 N·m actuator.
+    #[test]
+    fn coupled_joints_share_their_actuators_effort_by_virtual_work() {
+        let revolute = |name: &str, child: &str, effort: f64| {
+            JointSpec::new(name, JointKind::Revolute, "base", child).axis(Vector3::z()).limits(-1.0, 1.0, 1.0, effort)
+        };
+        let robot = RobotBuilder::new("coupled")
+            .link(Link::new("base"))
+            .link(Link::new("la"))
+            .link(Link::new("lb"))
+            .link(Link::new("lc"))
+            .link(Link::new("ld"))
+            .joint(revolute("a", "la", 6.0))
+            .joint(revolute("b", "lb", 6.0).mimic("a", 0.5, 0.0))
+            .joint(revolute("c", "lc", 6.0).mimic("b", -2.0, 0.1))
+            .joint(revolute("d", "ld", 3.0))
+            .build()
+            .unwrap();
+        let id = |n: &str| robot.joint_id(n).unwrap();
+        let share = |n: &str| motor_effort(&robot, id(n), true).unwrap();
+        // Σ m² = 1 + 0.25 + 1 = 2.25: shares 6/2.25 · (1, 0.5, 1).
+        for (n, expected) in [("a", 6.0 / 2.25), ("b", 3.0 / 2.25), ("c", 6.0 / 2.25), ("d", 3.0)] {
+            assert!((share(n) - expected).abs() < 1e-12, "{n}: {} N·m, expected {expected}", share(n));
+        }
+        // The coupled chain delivers the actuator's torque: Σ |m_i| τ_i = τ.
+        let total = share("a") + 0.5 * share("b") + share("c");
+        assert!((total - 6.0).abs() < 1e-12, "{total}");
+        // Uncoupled: every joint its own full limit.
+        for n in ["a", "b", "c"] {
+            assert_eq!(motor_effort(&robot, id(n), false), Some(6.0));
         }
     }
 }

@@ -1,0 +1,136 @@
+//! Traces the contact forces of physics hold checks: why does a force-closure grasp hold or not?
+//!
+//! ```text
+//! cargo run --release -p opengrasp-grasp --example physics_trace -- [HAND] [OBJECT] [K|all] [SQUEEZE] [solo]
+//! ```
+//! HAND is `armar3` (default), `barrett` or `sdh`; OBJECT a stock object (default `salt_can`).
+//! The force-closure palm grasps of both reference planners (every `n/200`-th candidate) are
+//! listed; `all` runs the hold check on ten of them, spread evenly, and prints the outcomes;
+//! `K` (0..9, default 0) traces the K-th of those ten: its evaluator contacts with the share
+//! of the grip the force-closure solver gives each (`evaluation_contacts`), then the
+//! simulated contact forces per link at the end of the clamped squeeze and 50 ms after the
+//! release, with the net force the contacts put on the object. SQUEEZE overrides
+//! [`PhysicsCheckOptions::squeeze`]; `solo` gives every coupled joint its own full motor
+//! (`coupled_actuators` off) for comparison with the shared actuator.
+
+use nalgebra::Vector3;
+use opengrasp_assets::{hands, objects};
+use opengrasp_core::physics::{ContactBody, PhysicsEngine, RapierBackend};
+use opengrasp_core::scene::ObjectId;
+use opengrasp_grasp::contact::ObjectFrame;
+use opengrasp_grasp::evaluator::{physics_check, EvaluatorOptions, GraspEvaluator, PhysicsCheckOptions};
+use opengrasp_grasp::planners::{GraspPlanner, GraspRequest, MedialAxisPlanner, SurfaceNormalPlanner};
+use opengrasp_grasp::tactile::sources::{evaluation_contacts, squeeze_engine, TactileSeriesOptions};
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let hand = match args.first().map_or("armar3", String::as_str) {
+        "barrett" => hands::barrett(),
+        "sdh" => hands::sdh(),
+        _ => hands::armar3_hand(),
+    };
+    let object = objects::by_name(args.get(1).map_or("salt_can", String::as_str))?;
+    let mut evaluator = GraspEvaluator::new(&hand, &object, EvaluatorOptions::default())?;
+    let info = evaluator.hand_info().clone();
+    let request = GraspRequest { hand: &info, object: &object.mesh, seed: 0 };
+    let mut candidates = MedialAxisPlanner::default().plan(&request)?;
+    candidates.extend(SurfaceNormalPlanner::default().plan(&request)?);
+    let mut grasps = Vec::new();
+    for c in candidates.iter().step_by((candidates.len() / 200).max(1)) {
+        let e = evaluator.evaluate(c)?;
+        if e.palm_contact && e.force_closure() {
+            grasps.push(e);
+        }
+    }
+    println!(
+        "{} force-closure palm grasps; object {:.2} kg, μ {}",
+        grasps.len(),
+        object.inertial.mass,
+        object.friction
+    );
+    if grasps.is_empty() {
+        return Ok(());
+    }
+    let mut options = PhysicsCheckOptions::default();
+    if let Some(squeeze) = args.get(3) {
+        options.squeeze = squeeze.parse()?;
+    }
+    options.physics.coupled_actuators = args.get(4).map(String::as_str) != Some("solo");
+    let pick = |k: usize| &grasps[k * grasps.len() / 10];
+    if args.get(2).map(String::as_str) == Some("all") {
+        for k in 0..10 {
+            let o = physics_check(&hand, &object, pick(k), &options)?;
+            println!(
+                "grasp {k}: {:?}, grip moved {:.3} m / {:.2} rad, per direction {:.3?} m",
+                o.result(),
+                o.grip_translation,
+                o.grip_rotation,
+                o.translations
+            );
+        }
+        return Ok(());
+    }
+    let grasp = pick(args.get(2).map_or(Ok(0), |s| s.parse())?);
+    let robot = hand.robot();
+    // The force-closure solver's distribution of a 100 N total normal force over the contacts
+    // (forces the evaluator's test assumes the hand can apply), next to each contact.
+    let frame = ObjectFrame::from_points(object.center_of_mass(), object.mesh.vertices())?;
+    let mut model = EvaluatorOptions::default().quality.contact;
+    model.friction = object.friction;
+    let solver = evaluation_contacts(&hand, grasp, &frame, &model, 100.0)?;
+    for (c, f) in grasp.contacts.iter().zip(&solver) {
+        let (p, n) = (c.contact.point, c.contact.normal);
+        let name = &robot.link(opengrasp_core::model::LinkId(c.link)).name;
+        println!(
+            "evaluator contact {name:10} at {:.3?} inward normal {:.2?}; FC solver: {:5.1} % of the grip",
+            p.coords.as_slice(),
+            n.as_slice(),
+            f.force
+        );
+    }
+    let squeeze =
+        TactileSeriesOptions { squeeze: options.squeeze, physics: options.physics.clone(), ..Default::default() };
+    let (mut engine, _) = squeeze_engine::<RapierBackend>(&hand, &object, grasp, &squeeze)?;
+    let dt = options.physics.timestep;
+    engine.set_object_fixed(ObjectId(0), true)?;
+    engine.step_n((options.settle / dt).ceil() as usize, dt)?;
+    print_forces("end of the clamped squeeze", &engine, robot, dt)?;
+    engine.set_object_fixed(ObjectId(0), false)?;
+    engine.step_n((0.05 / dt).ceil() as usize, dt)?;
+    print_forces("50 ms after the release", &engine, robot, dt)?;
+    Ok(())
+}
+
+/// Per link: summed normal force on the object (vector and magnitude) and friction magnitude.
+fn print_forces(
+    when: &str,
+    engine: &RapierBackend,
+    robot: &opengrasp_core::model::Robot,
+    dt: f64,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let pose = engine.object_pose(ObjectId(0))?;
+    println!("{when}: object moved {:.4} m, turned {:.3} rad", pose.translation.vector.norm(), pose.rotation.angle());
+    let mut per_link: Vec<(String, Vector3<f64>, f64, f64)> = Vec::new();
+    for c in engine.contacts() {
+        let (link, sign) = match (c.body1, c.body2) {
+            (ContactBody::Link { link, .. }, ContactBody::Object(_)) => (link, 1.0),
+            (ContactBody::Object(_), ContactBody::Link { link, .. }) => (link, -1.0),
+            _ => continue,
+        };
+        let name = robot.link(link).name.clone();
+        let i = per_link.iter().position(|l| l.0 == name).unwrap_or_else(|| {
+            per_link.push((name, Vector3::zeros(), 0.0, 0.0));
+            per_link.len() - 1
+        });
+        per_link[i].1 += c.normal * (sign * c.normal_force);
+        per_link[i].2 += c.normal_force;
+        per_link[i].3 += c.friction_impulse / dt;
+    }
+    let mut net = Vector3::zeros();
+    for (name, f, n, t) in &per_link {
+        net += f;
+        println!("  {name:10} normal force {n:6.2} N along {:.2?}, friction {t:6.2} N", f.normalize().as_slice());
+    }
+    println!("  net normal force on the object {:.2?} N", net.as_slice());
+    Ok(())
+}
