@@ -184,24 +184,45 @@ impl Drawing {
         canvas
     }
 
-    /// Renders the drawing framed from the front-left-above (perspective, 40° field of view),
-    /// with world z up.
+    /// Renders the drawing in perspective (40° field of view, world z up) from the
+    /// front-left-above, framed on the robots, paths and dots. When the rest of the scene is
+    /// much larger (a kitchen around a robot), the view looks down more steeply and cuts away
+    /// everything nearer to the eye than the framed part (walls, shelves above it).
     ///
     /// # Errors
     /// [`crate::ViewerError::InvalidCamera`] for an empty drawing or a zero size.
     pub fn render_framed(&self, width: u32, height: u32) -> Result<Canvas> {
-        let (lo, hi) = self.bounds().ok_or_else(|| crate::ViewerError::InvalidCamera {
-            reason: "nothing to draw".into(),
-        })?;
-        let camera = Camera::framing(
-            lo,
-            hi,
-            Vector3::new(1.0, 0.6, -0.55),
-            Vector3::z(),
-            Some(40f64.to_radians()),
-            width,
-            height,
-        )?;
+        let all =
+            self.bounds().ok_or_else(|| crate::ViewerError::InvalidCamera { reason: "nothing to draw".into() })?;
+        let focus = self.focus_bounds().unwrap_or(all);
+        let radius = |(lo, hi): (Point3<f64>, Point3<f64>)| (hi - lo).norm() / 2.0;
+        let fov = Some(40f64.to_radians());
+        if radius(all) <= 2.0 * radius(focus) {
+            let camera =
+                Camera::framing(all.0, all.1, Vector3::new(1.0, 0.6, -0.55), Vector3::z(), fov, width, height)?;
+            return Ok(self.render(camera));
+        }
+        // Frame the focus with a margin; clip what lies between the eye and it.
+        let margin = Vector3::repeat(0.25 * radius(focus).max(0.1));
+        let (lo, hi) = (focus.0 - margin, focus.1 + margin);
+        let mut camera = Camera::framing(lo, hi, Vector3::new(0.8, 0.5, -1.1), Vector3::z(), fov, width, height)?;
+        let centre = nalgebra::center(&lo, &hi);
+        camera.near = (centre - camera.eye).dot(&camera.forward) - radius((lo, hi));
         Ok(self.render(camera))
+    }
+
+    /// Bounds of the robots (all robot kinds), lines and dots, `None` if there are none.
+    fn focus_bounds(&self) -> Option<(Point3<f64>, Point3<f64>)> {
+        let focus = Drawing {
+            meshes: self
+                .meshes
+                .iter()
+                .filter(|m| !matches!(m.kind, Kind::Environment | Kind::Object))
+                .cloned()
+                .collect(),
+            lines: self.lines.clone(),
+            dots: self.dots.clone(),
+        };
+        focus.bounds()
     }
 }

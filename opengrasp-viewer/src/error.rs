@@ -15,6 +15,9 @@ pub enum ViewerError {
     /// An asset could not be built or tessellated.
     #[error(transparent)]
     Asset(#[from] opengrasp_assets::AssetError),
+    /// A grasp could not be evaluated again.
+    #[error(transparent)]
+    Grasp(#[from] opengrasp_grasp::GraspError),
     /// A motion scene could not be rebuilt.
     #[error(transparent)]
     Motion(#[from] opengrasp_motion::MotionError),

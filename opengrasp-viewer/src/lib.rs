@@ -38,8 +38,13 @@
 
 pub mod drawing;
 pub mod error;
+pub mod grasp;
+pub mod motion;
 pub mod raster;
+#[cfg(feature = "rerun")]
+pub mod record;
 pub mod replay;
+pub mod snapshot;
 pub mod world;
 
 pub use drawing::Drawing;

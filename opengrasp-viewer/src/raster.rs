@@ -45,6 +45,9 @@ pub struct Camera {
     pub width: u32,
     /// Image height (pixels).
     pub height: u32,
+    /// Triangles with a vertex nearer than this (m along the view) are not drawn: a cutaway
+    /// through walls between the eye and what is looked at. Lines and dots are not clipped.
+    pub near: f64,
 }
 
 /// Points closer than this to a perspective eye (m) are not drawn.
@@ -86,7 +89,7 @@ impl Camera {
         if !eye.iter().all(|v| v.is_finite()) {
             return Err(bad("eye is not finite"));
         }
-        Ok(Self { eye, forward, up, projection, width, height })
+        Ok(Self { eye, forward, up, projection, width, height, near: NEAR })
     }
 
     /// A camera looking along `direction` that frames the box `[lo, hi]` with a margin of 5 %.
@@ -242,6 +245,9 @@ impl Canvas {
         else {
             return;
         };
+        if [pa.2, pb.2, pc.2].iter().any(|&z| z < self.camera.near) {
+            return;
+        }
         let pts = [pa, pb, pc].map(|(x, y, z)| (x, y, self.camera.key(z)));
         self.fill(pts, shaded, Fill::Surface);
     }
@@ -251,7 +257,8 @@ impl Canvas {
     /// and written to the depth buffer ([`Fill::Surface`]), depth-tested only ([`Fill::Line`]),
     /// or painted over everything ([`Fill::Overlay`]).
     fn fill(&mut self, p: [(f64, f64, f64); 3], colour: Rgb, mode: Fill) {
-        let edge = |a: (f64, f64, f64), b: (f64, f64, f64), x: f64, y: f64| (b.0 - a.0) * (y - a.1) - (b.1 - a.1) * (x - a.0);
+        let edge =
+            |a: (f64, f64, f64), b: (f64, f64, f64), x: f64, y: f64| (b.0 - a.0) * (y - a.1) - (b.1 - a.1) * (x - a.0);
         let area = edge(p[0], p[1], p[2].0, p[2].1);
         if area.abs() < 1e-12 || !area.is_finite() {
             return;
@@ -311,7 +318,11 @@ impl Canvas {
         let (ka, kb) = (pull(pa.2), pull(pb.2));
         let d = (pb.0 - pa.0, pb.1 - pa.1);
         let len = (d.0 * d.0 + d.1 * d.1).sqrt();
-        let (nx, ny) = if len < 1e-9 { (0.0, thickness / 2.0) } else { (-d.1 / len * thickness / 2.0, d.0 / len * thickness / 2.0) };
+        let (nx, ny) = if len < 1e-9 {
+            (0.0, thickness / 2.0)
+        } else {
+            (-d.1 / len * thickness / 2.0, d.0 / len * thickness / 2.0)
+        };
         let (tx, ty) = if len < 1e-9 { (thickness / 2.0, 0.0) } else { (d.0 / len * 0.5, d.1 / len * 0.5) };
         let q = [
             (pa.0 + nx - tx, pa.1 + ny - ty, ka),
