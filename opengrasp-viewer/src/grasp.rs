@@ -24,6 +24,8 @@ use crate::error::{Result, ViewerError};
 pub const FORCE_CLOSURE: [u8; 3] = [40, 170, 80];
 /// Hand colour of a grasp without force closure.
 pub const NO_FORCE_CLOSURE: [u8; 3] = [230, 120, 40];
+/// Colour of the grasped object.
+pub const GRASPED_OBJECT: [u8; 3] = [185, 185, 200];
 /// Colour of contact points and friction cones.
 pub const CONTACT: [u8; 3] = [200, 20, 160];
 /// Length of a drawn friction cone (m).
@@ -137,7 +139,7 @@ pub fn friction_cone(point: &Point3<f64>, normal: &nalgebra::Unit<nalgebra::Vect
     lines
 }
 
-/// The drawing of a grasp: object, hand coloured by force closure, contacts as dots and
+/// The drawing of a grasp: object (grey), hand coloured by force closure, contacts as dots and
 /// their friction cones (the object's friction coefficient).
 ///
 /// # Errors
@@ -146,8 +148,8 @@ pub fn grasp_drawing(g: &ReplayedGrasp) -> Result<Drawing> {
     let mut drawing = Drawing::new();
     drawing.add_scene(&grasp_scene(g)?, Kind::Robot)?;
     let hand_colour = if g.evaluation.force_closure() { FORCE_CLOSURE } else { NO_FORCE_CLOSURE };
-    for m in drawing.meshes.iter_mut().filter(|m| m.kind == Kind::Robot) {
-        m.colour = hand_colour;
+    for m in &mut drawing.meshes {
+        m.colour = if m.kind == Kind::Robot { hand_colour } else { GRASPED_OBJECT };
     }
     for (i, c) in g.evaluation.contacts.iter().enumerate() {
         drawing.dots.push(Dot { name: format!("contact/{i}"), colour: CONTACT, position: c.contact.point });

@@ -18,6 +18,8 @@ pub const PLANNED: [u8; 3] = [235, 140, 20];
 pub const PROCESSED: [u8; 3] = [20, 150, 60];
 /// Colour of invalid states.
 pub const INVALID: [u8; 3] = [220, 20, 20];
+/// Colour of a pose goal's target.
+pub const GOAL: [u8; 3] = [120, 40, 200];
 
 /// One state of a densified path.
 #[derive(Clone, Debug, PartialEq)]
@@ -118,7 +120,8 @@ pub fn state_drawing(world: &MotionWorld, q: &[f64]) -> Result<Drawing> {
 /// The snapshot of a replayed run: the world with the robot at the start, a lighter robot at
 /// the end of the post-processed path (or at the first invalid state of the planned path,
 /// with the colliding parts in red, if it has one), the end effector's planned path in
-/// orange, the post-processed one in green and invalid states as red dots. `step` is the
+/// orange, the post-processed one in green, invalid states as red dots and a pose goal's
+/// target as a purple dot. `step` is the
 /// densification step (rad).
 ///
 /// # Errors
@@ -151,6 +154,11 @@ pub fn run_drawing(run: &ReplayedRun, step: f64) -> Result<Drawing> {
         if !states.is_empty() {
             drawing.lines.push(Polyline { name: name.into(), colour, points: states.iter().map(|s| s.tip).collect() });
         }
+    }
+    if let opengrasp_motion::problem::Goal::Pose(goal) = &world.instance.goal {
+        let base = world.world.robot(world.robot)?.base_pose;
+        let target = base * Point3::from(goal.target.translation.vector);
+        drawing.dots.push(Dot { name: "goal".into(), colour: GOAL, position: target });
     }
     for (i, s) in planned.iter().enumerate().filter(|(_, s)| !s.valid) {
         drawing.dots.push(Dot { name: format!("invalid/{i}"), colour: INVALID, position: s.tip });
