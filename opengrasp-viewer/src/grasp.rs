@@ -56,6 +56,12 @@ pub fn find_grasp<'a>(grasp: &'a GraspSection, id: &str) -> Result<(&'a GraspRec
     })
 }
 
+/// The best recorded candidate of a cell: the largest epsilon (the last of equals), `None`
+/// if the cell has no recorded candidates.
+pub fn best_candidate(cell: &GraspRecord) -> Option<&CandidateRecord> {
+    cell.cell.candidates.iter().max_by(|a, b| a.epsilon.total_cmp(&b.epsilon))
+}
+
 /// A recorded candidate evaluated again.
 pub struct ReplayedGrasp {
     /// The hand.

@@ -7,6 +7,15 @@
 //! - [`drawing`]: what to draw ([`Drawing`]: coloured world meshes from
 //!   [`opengrasp_assets::export::scene_meshes`], polylines, dots), shared by the PNG
 //!   renderer and the rerun logger;
+//! - [`world`]: the motion benchmark's scenes rebuilt by name, with their geometry;
+//! - [`replay`]: a motion run planned again from its record (the results keep figures, not
+//!   paths), checked against the record; [`motion`]: its states, end-effector path, invalid
+//!   states and colliding pairs, as a drawing;
+//! - [`grasp`]: a recorded grasp evaluated again: hand in its final pose coloured by force
+//!   closure, contacts and friction cones;
+//! - [`snapshot`]: the PNG snapshots of a results file that `opengrasp report --plots` embeds;
+//! - `record` (feature `rerun`, Rust 1.95): all of it logged to a rerun recording (`.rrd`),
+//!   motion runs as trajectories on scrubbable timelines, tactile frames as images.
 //!
 //! # Example
 //!

@@ -24,15 +24,14 @@ use opengrasp_bench::results::ResultsFile;
 use opengrasp_core::kinematics::forward_kinematics;
 use opengrasp_core::scene::Scene;
 use opengrasp_grasp::tactile::CompactFrame;
-use opengrasp_motion::benchmark::RunStatus;
 use opengrasp_motion::problem_set::LoadedProblemSet;
 use rerun::{Color, LineStrips3D, Mesh3D, Points3D, RecordingStream, TextDocument, Transform3D};
 
 use crate::drawing::{Drawing, Kind, MeshItem};
 use crate::error::{Result, ViewerError};
-use crate::grasp::{find_grasp, grasp_drawing, grasp_id, replay_grasp, ReplayedGrasp};
+use crate::grasp::{best_candidate, find_grasp, grasp_drawing, grasp_id, replay_grasp, ReplayedGrasp};
 use crate::motion::{colliding_pairs, path_states, PathState, INVALID, PLANNED, PROCESSED};
-use crate::replay::{replay, run_id, ReplayedRun};
+use crate::replay::{first_replayable, replay, run_id, ReplayedRun};
 use crate::snapshot::file_token;
 use crate::world::MotionWorld;
 
@@ -331,28 +330,15 @@ impl Recorder {
             Selection::Overview => {
                 if let Some(motion) = &results.motion {
                     for scene in &motion.scenes {
-                        let solved = motion.runs.iter().filter(|r| &r.scene == scene && r.status == RunStatus::Solved);
-                        let mut last = None;
-                        let mut done = false;
-                        for r in solved {
-                            match replay(motion, &run_id(r), sets) {
-                                Ok(run) => {
-                                    self.log_run(&run_prefix(&run), &run, step)?;
-                                    done = true;
-                                    break;
-                                }
-                                Err(e) => last = Some(e),
-                            }
-                        }
-                        if let (false, Some(e)) = (done, last) {
-                            skipped.push((scene.clone(), e));
+                        match first_replayable(motion, scene, sets) {
+                            Ok(run) => self.log_run(&run_prefix(&run), &run, step)?,
+                            Err(e) => skipped.push((scene.clone(), e)),
                         }
                     }
                 }
                 if let Some(grasp) = &results.grasp {
                     for cell in grasp.cells.iter() {
-                        let best = cell.cell.candidates.iter().max_by(|a, b| a.epsilon.total_cmp(&b.epsilon));
-                        let Some(best) = best else { continue };
+                        let Some(best) = best_candidate(cell) else { continue };
                         let id = grasp_id(cell, best);
                         match replay_grasp(cell, best) {
                             Ok(g) => self.log_grasp(&grasp_prefix(&id), &g)?,

@@ -112,6 +112,7 @@ pub fn replay(motion: &MotionSection, id: &str, sets: &[Arc<LoadedProblemSet>]) 
     let seed = out.record.seed;
     let problem = instance.problem(&*instance.checker, options.time_limit, seed, options.validation.step);
     let solution = planner.plan(&problem)?;
+    // Post-processing exactly as `run_once` does it (its options, repair then shortcut).
     let shortcut_options = ShortcutOptions {
         seed,
         step: options.validation.strict_step,
@@ -150,4 +151,24 @@ pub fn replay(motion: &MotionSection, id: &str, sets: &[Arc<LoadedProblemSet>]) 
     out.planned = solution.path;
     out.processed = smoothed;
     Ok(out)
+}
+
+/// The first solved run of `scene` (in file order) that replays; the last replay error if
+/// none does ([`ViewerError::UnknownRun`] if the scene has no solved run).
+///
+/// # Errors
+/// As [`replay`].
+pub fn first_replayable(motion: &MotionSection, scene: &str, sets: &[Arc<LoadedProblemSet>]) -> Result<ReplayedRun> {
+    let mut last = ViewerError::UnknownRun {
+        id: format!("a solved run of {scene}"),
+        available: motion.runs.len(),
+        example: "none solved".into(),
+    };
+    for r in motion.runs.iter().filter(|r| r.scene == scene && r.status == RunStatus::Solved) {
+        match replay(motion, &run_id(r), sets) {
+            Ok(run) => return Ok(run),
+            Err(e) => last = e,
+        }
+    }
+    Err(last)
 }

@@ -7,14 +7,13 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use opengrasp_bench::results::ResultsFile;
-use opengrasp_motion::benchmark::RunStatus;
 use opengrasp_motion::problem_set::LoadedProblemSet;
 
 use crate::drawing::Drawing;
 use crate::error::{Result, ViewerError};
-use crate::grasp::{grasp_drawing, grasp_id, replay_grasp};
+use crate::grasp::{best_candidate, grasp_drawing, grasp_id, replay_grasp};
 use crate::motion::run_drawing;
-use crate::replay::{replay, run_id};
+use crate::replay::first_replayable;
 
 /// Options of [`write_snapshots`].
 #[derive(Clone, Debug, PartialEq)]
@@ -81,42 +80,26 @@ pub fn write_snapshots(
     let mut out = Snapshots::default();
     if let Some(motion) = &results.motion {
         for scene in &motion.scenes {
-            let solved = motion.runs.iter().filter(|r| &r.scene == scene && r.status == RunStatus::Solved);
-            let mut last_error = None;
-            let mut done = false;
-            for r in solved {
-                let id = run_id(r);
-                let drawn = replay(motion, &id, sets).and_then(|run| run_drawing(&run, options.step));
-                match drawn {
-                    Ok(d) => {
-                        let path = dir.join(format!("scene_{}.png", file_token(scene)));
-                        let caption = format!(
-                            "{scene}: {} run {} (orange: planned, green: post-processed end-effector path; \
-                             red: invalid states and colliding parts)",
-                            r.planner, r.run
-                        );
-                        out.written.push(save(&d, options, path, caption)?);
-                        done = true;
-                        break;
-                    }
-                    Err(e @ (ViewerError::Io { .. } | ViewerError::Png { .. })) => return Err(e),
-                    Err(e) => last_error = Some(e),
+            let drawn =
+                first_replayable(motion, scene, sets).and_then(|run| Ok((run_drawing(&run, options.step)?, run)));
+            match drawn {
+                Ok((d, run)) => {
+                    let path = dir.join(format!("scene_{}.png", file_token(scene)));
+                    let caption = format!(
+                        "{scene}: {} run {} (orange: planned, green: post-processed end-effector path; \
+                         red: invalid states and colliding parts)",
+                        run.record.planner, run.record.run
+                    );
+                    out.written.push(save(&d, options, path, caption)?);
                 }
-            }
-            if !done {
-                let e = last_error.unwrap_or_else(|| ViewerError::UnknownRun {
-                    id: format!("a solved run of {scene}"),
-                    available: motion.runs.len(),
-                    example: "none solved".into(),
-                });
-                out.skipped.push((scene.clone(), e));
+                Err(e @ (ViewerError::Io { .. } | ViewerError::Png { .. })) => return Err(e),
+                Err(e) => out.skipped.push((scene.clone(), e)),
             }
         }
     }
     if let Some(grasp) = &results.grasp {
         for cell in grasp.cells.iter().filter(|c| !c.cell.candidates.is_empty()).take(options.max_grasps) {
-            let best = cell.cell.candidates.iter().max_by(|a, b| a.epsilon.total_cmp(&b.epsilon));
-            let Some(best) = best else { continue };
+            let Some(best) = best_candidate(cell) else { continue };
             let id = grasp_id(cell, best);
             match replay_grasp(cell, best).and_then(|g| grasp_drawing(&g)) {
                 Ok(d) => {

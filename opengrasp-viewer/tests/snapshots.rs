@@ -8,7 +8,7 @@ use opengrasp_bench::suite::{Suite, SuiteSize};
 use opengrasp_motion::benchmark::RunStatus;
 use opengrasp_motion::validate::distance;
 use opengrasp_viewer::drawing::BACKGROUND;
-use opengrasp_viewer::grasp::{find_grasp, grasp_drawing, replay_grasp};
+use opengrasp_viewer::grasp::{best_candidate, find_grasp, grasp_drawing, replay_grasp};
 use opengrasp_viewer::motion::{path_states, run_drawing};
 use opengrasp_viewer::replay::{find_run, replay, run_id};
 use opengrasp_viewer::snapshot::{write_snapshots, SnapshotOptions};
@@ -84,12 +84,8 @@ fn runs_are_found_by_id_or_position_and_unknown_ids_are_typed_errors() {
 #[test]
 fn a_grasp_replays_with_its_contacts_and_cones() {
     let grasp = results().grasp.as_ref().unwrap();
-    let (cell, best) = grasp
-        .cells
-        .iter()
-        .flat_map(|c| c.cell.candidates.iter().map(move |k| (c, k)))
-        .max_by(|a, b| a.1.epsilon.total_cmp(&b.1.epsilon))
-        .unwrap();
+    let cell = &grasp.cells[0];
+    let best = best_candidate(cell).unwrap();
     assert!(best.force_closure, "the tiny suite has a force-closure grasp");
     let g = replay_grasp(cell, best).unwrap();
     assert_eq!(g.evaluation.contacts.len(), best.contacts);
