@@ -49,6 +49,10 @@ fn rgba(c: [u8; 3]) -> Color {
     Color::from_rgb(c[0], c[1], c[2])
 }
 
+fn albedo(c: [u8; 3]) -> [u8; 4] {
+    [c[0], c[1], c[2], 255]
+}
+
 fn p32(p: &Point3<f64>) -> [f32; 3] {
     [p.x as f32, p.y as f32, p.z as f32]
 }
@@ -64,7 +68,7 @@ fn transform(pose: &Isometry3<f64>) -> Transform3D {
 fn mesh(item: &MeshItem) -> Mesh3D {
     Mesh3D::new(item.mesh.vertices().iter().map(p32))
         .with_triangle_indices(item.mesh.triangles().iter().copied())
-        .with_albedo_factor(rgba(item.colour))
+        .with_albedo_factor(albedo(item.colour))
 }
 
 /// What `opengrasp view` records.
@@ -176,7 +180,7 @@ impl Recorder {
     fn log_trajectory(
         &self,
         prefix: &str,
-        timeline: &str,
+        timeline: &'static str,
         colour: [u8; 3],
         world: &MotionWorld,
         states: &[PathState],
@@ -239,12 +243,12 @@ impl Recorder {
             }
             for &l in red.iter().filter(|l| !now.contains(l)) {
                 for p in &shapes_of[l] {
-                    self.log(p, &Mesh3D::update_fields().with_albedo_factor(rgba(Kind::Robot.colour())))?;
+                    self.log(p, &Mesh3D::update_fields().with_albedo_factor(albedo(Kind::Robot.colour())))?;
                 }
             }
             for &l in now.iter().filter(|l| !red.contains(l)) {
                 for p in &shapes_of[l] {
-                    self.log(p, &Mesh3D::update_fields().with_albedo_factor(rgba(Kind::Colliding.colour())))?;
+                    self.log(p, &Mesh3D::update_fields().with_albedo_factor(albedo(Kind::Colliding.colour())))?;
                 }
             }
             red = now;
