@@ -115,7 +115,7 @@ pub fn view(args: &ViewArgs) -> Result<PathBuf, CliError> {
 }
 
 #[cfg(feature = "rerun")]
-use opengrasp_viewer::record::Selection;
+pub use opengrasp_viewer::record::Selection;
 
 /// What to record (stands in for `opengrasp_viewer::record::Selection` without the `rerun`
 /// feature).
