@@ -6,9 +6,11 @@
 //! opengrasp run grasp|motion|all [--size tiny|default|paper] [--planner NAME]... [--runs N]
 //!                                [--hand NAME|PATH]... [--object NAME|PATH]...
 //!                                [--seed S] [--max-candidates N|all] [--out results.json] [--jobs J]
-//!                                [--quiet]
+//!                                [--quiet] [--record out.rrd]
 //! opengrasp report results.json [--format table|markdown|csv] [--plots DIR]
-//!                                [--plot-format svg|png|both] [--ompl DIR]
+//!                                [--plot-format svg|png|both] [--ompl DIR] [--problems PATH]...
+//! opengrasp view results.json [--run ID | --grasp ID] [--out file.rrd] [--no-spawn]
+//!                                [--problems PATH]...   (feature `rerun`)
 //! opengrasp submit results.json --name NAME [--team TEAM] [--db highscore.sqlite]
 //! opengrasp submit results.json --name NAME --server http://HOST:PORT [--token TOKEN]
 //! opengrasp highscore [BENCHMARK] [--db highscore.sqlite]
@@ -41,6 +43,19 @@ pub enum CliError {
     /// A high-score board operation failed.
     #[error(transparent)]
     Highscore(#[from] crate::highscore::HighscoreError),
+    /// Drawing, replaying or recording for the viewer failed.
+    #[error(transparent)]
+    Viewer(#[from] crate::viewer::ViewerError),
+    /// A rerun recording was asked of a build without the `rerun` feature.
+    #[error(
+        "`{command}` writes rerun recordings, but this opengrasp was built without the `rerun` feature: \
+         install it with `cargo install --path . --features rerun` (needs Rust 1.95), or draw PNG \
+         snapshots with `opengrasp report FILE --format markdown --plots DIR`"
+    )]
+    RerunDisabled {
+        /// The command.
+        command: &'static str,
+    },
 }
 
 /// `opengrasp`: run the OpenGRASP grasp and motion planning benchmarks, report and rank results.
@@ -256,6 +271,10 @@ pub struct RunArgs {
     /// Do not print the report after the run.
     #[arg(long)]
     pub quiet: bool,
+    /// Also write a rerun recording of the results (`.rrd`: scenes, each scene's first solved
+    /// run replayed, each grasp cell's best recorded grasp). Needs the `rerun` feature.
+    #[arg(long, value_name = "FILE")]
+    pub record: Option<PathBuf>,
 }
 
 /// The subcommands.
@@ -286,7 +305,15 @@ pub enum Command {
         /// Write the motion results as OMPL benchmark logs (one per scene) into this directory.
         #[arg(long)]
         ompl: Option<PathBuf>,
+        /// The motion problem sets the results were made with, for the scene snapshots of
+        /// `--plots`.
+        #[arg(long = "problems", value_name = "PATH")]
+        problems: Vec<PathBuf>,
     },
+    /// Write a rerun recording (`.rrd`) of a results file and open it in the rerun viewer
+    /// when installed (`pip install rerun-sdk` or `cargo install rerun-cli`). Needs the
+    /// `rerun` feature.
+    View(crate::view::ViewArgs),
     /// Merge the results files of a sharded run (`run --shard K/N`, all N shards) into the
     /// results of the unsharded run.
     Merge {
@@ -372,6 +399,18 @@ pub enum TokenAction {
 
 /// Largest results file `opengrasp report` reads (files with every grasp candidate are big).
 pub const MAX_REPORT_BYTES: usize = 512 * 1024 * 1024;
+
+/// Loads a results file for `report` and `view` (at most [`MAX_REPORT_BYTES`]).
+///
+/// # Errors
+/// [`Error::Io`] / [`Error::Parse`] (naming the file) / validation errors.
+pub fn load_results(file: &std::path::Path) -> std::result::Result<ResultsFile, CliError> {
+    let text = crate::highscore::read::read_file_bounded(file, MAX_REPORT_BYTES)?;
+    Ok(ResultsFile::from_json(&text).map_err(|e| match e {
+        Error::Parse { source, .. } => Error::Parse { path: file.to_path_buf(), source },
+        other => other,
+    })?)
+}
 
 /// Builds the suite `opengrasp run` would run.
 ///
@@ -563,6 +602,12 @@ pub fn execute(cli: Cli) -> std::result::Result<(), CliError> {
     match cli.command {
         Command::List { what } => print!("{}", list(what)),
         Command::Run(args) => {
+            if let Some(path) = &args.record {
+                if !cfg!(feature = "rerun") {
+                    return Err(CliError::RerunDisabled { command: "run --record" });
+                }
+                crate::results::check_writable(path)?;
+            }
             let (results, text) = run(&args, true)?;
             print!("{text}");
             eprintln!(
@@ -571,6 +616,13 @@ pub fn execute(cli: Cli) -> std::result::Result<(), CliError> {
                 results.provenance.wall_seconds,
                 results.provenance.jobs
             );
+            if let Some(path) = &args.record {
+                let sets = crate::view::load_sets(&args.problems)?;
+                crate::view::record(&results, path, &crate::view::Selection::Overview, &sets)?;
+            }
+        }
+        Command::View(args) => {
+            crate::view::view(&args)?;
         }
         Command::Merge { files, out } => {
             crate::results::check_writable(&out)?;
@@ -579,12 +631,9 @@ pub fn execute(cli: Cli) -> std::result::Result<(), CliError> {
             merged.save(&out)?;
             eprintln!("merged {} shards into {}", files.len(), out.display());
         }
-        Command::Report { file, format, plots, plot_format, ompl } => {
-            let text = crate::highscore::read::read_file_bounded(&file, MAX_REPORT_BYTES)?;
-            let results = ResultsFile::from_json(&text).map_err(|e| match e {
-                Error::Parse { source, .. } => Error::Parse { path: file.clone(), source },
-                other => other,
-            })?;
+        Command::Report { file, format, plots, plot_format, ompl, problems } => {
+            let results = load_results(&file)?;
+            let sets = crate::view::load_sets(&problems)?;
             // Output directories first, so a bad path fails before anything is printed.
             for dir in plots.iter().chain(&ompl) {
                 std::fs::create_dir_all(dir).map_err(|source| Error::Io { path: dir.clone(), source })?;
@@ -593,6 +642,10 @@ pub fn execute(cli: Cli) -> std::result::Result<(), CliError> {
             if let Some(dir) = plots {
                 for p in crate::plots::plot_all_as(&results, &dir, plot_format.into())? {
                     eprintln!("wrote {}", p.display());
+                }
+                let section = crate::view::snapshots(&results, &dir, &sets)?;
+                if matches!(format, FormatArg::Markdown) && !section.is_empty() {
+                    print!("\n{section}");
                 }
             }
             if let Some(dir) = ompl {

@@ -21,12 +21,17 @@
 //! - [`ompl`]: motion results in OMPL's benchmark log format (Planner Arena);
 //! - `highscore` (feature `highscore`, `opengrasp-highscore`): the high-score board (SQLite
 //!   store and HTTP service);
+//! - `viewer` (feature `viewer`, `opengrasp-viewer`): headless PNG snapshots of scenes, motion
+//!   runs and grasps; with feature `rerun` also rerun recordings;
 //! - `cli` (feature `cli`): the `opengrasp` command line (`opengrasp list | run | report |
-//!   submit | highscore | serve`).
+//!   view | submit | highscore | serve`); [`view`] (feature `cli`): `opengrasp view` and
+//!   `run --record`.
 //!
 //! # Features
 //!
-//! `cli` (default) builds the `opengrasp` command and pulls in `highscore` and `plots`. A
+//! `cli` (default) builds the `opengrasp` command and pulls in `highscore`, `plots` and
+//! `viewer`. `rerun` (off by default; Rust 1.95) adds rerun recordings to `opengrasp view` and
+//! `opengrasp run --record`. A
 //! library that only needs the SDK and the harness depends on
 //! `opengrasp = { version = "0.1", default-features = false }` and compiles no HTTP server,
 //! SQLite, command-line parser or plotting library.
@@ -64,9 +69,13 @@ pub use opengrasp_motion as motion;
 
 #[cfg(feature = "plots")]
 pub use opengrasp_bench::plots;
+#[cfg(feature = "viewer")]
+pub use opengrasp_viewer as viewer;
 
 #[cfg(feature = "cli")]
 pub mod cli;
+#[cfg(feature = "cli")]
+pub mod view;
 
 pub use opengrasp_bench::{Error, Result, ResultsFile};
 

@@ -554,7 +554,7 @@ fn command_line_parses() {
         .unwrap()
         .command
     {
-        Command::Report { file, format, plots, plot_format, ompl } => {
+        Command::Report { file, format, plots, plot_format, ompl, .. } => {
             assert_eq!(file, PathBuf::from("r.json"));
             assert_eq!(format, FormatArg::Csv);
             assert_eq!(plots, Some(PathBuf::from("p")));

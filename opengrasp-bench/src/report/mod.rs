@@ -271,6 +271,18 @@ pub fn motion_table(m: &MotionSection, format: Format) -> String {
     render_all(&motion_tables(m), format)
 }
 
+/// A Markdown section of images (the viewer's scene snapshots): a `## title` heading, then
+/// each image as `![caption](link)` with its caption in italics under it. Brackets in
+/// captions are escaped.
+pub fn images_markdown(title: &str, images: &[(String, String)]) -> String {
+    let mut out = format!("## {title}\n\n");
+    for (caption, link) in images {
+        let caption = caption.replace('[', "\\[").replace(']', "\\]");
+        let _ = writeln!(out, "![{caption}]({})\n*{caption}*\n", link.replace(' ', "%20"));
+    }
+    out
+}
+
 /// Renders tables one after the other: separated by blank lines, or as one tidy CSV.
 pub fn render_all(tables: &[Table], format: Format) -> String {
     match format {
