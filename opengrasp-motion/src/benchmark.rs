@@ -460,6 +460,18 @@ fn grade(instance: &SceneInstance, path: &[Vec<f64>], options: &BenchmarkOptions
     }
 }
 
+/// The options `run_once` repairs and shortcuts a run's path with: the benchmark's shortcut
+/// options at the validators' steps and continuous check, seeded by the run's seed.
+pub fn postprocessing_options(options: &BenchmarkOptions, seed: u64) -> ShortcutOptions {
+    ShortcutOptions {
+        seed,
+        step: options.validation.strict_step,
+        planning_step: options.validation.step,
+        ccd: options.validation.ccd,
+        ..options.shortcut
+    }
+}
+
 /// Runs one planner on one scene instance and grades it.
 pub fn run_once(
     planner: &mut dyn MotionPlanner,
@@ -502,13 +514,7 @@ pub fn run_once(
     record.planned = Some(grade(instance, &path, options));
     // Post-processing certifies its shortcuts with the judge's checker.
     let counter = CountingChecker::new(&*instance.checker);
-    let shortcut_options = ShortcutOptions {
-        seed,
-        step: options.validation.strict_step,
-        planning_step: options.validation.step,
-        ccd: options.validation.ccd,
-        ..options.shortcut
-    };
+    let shortcut_options = postprocessing_options(options, seed);
     let limits = instance.group.limits(&instance.robot);
     let t1 = Instant::now();
     let (repaired, repair_stats) = repair(&counter, &path, &limits, &shortcut_options);

@@ -9,12 +9,12 @@
 use std::sync::Arc;
 
 use opengrasp_bench::results::MotionSection;
-use opengrasp_motion::benchmark::{timed_setup, RunRecord, RunStatus};
+use opengrasp_motion::benchmark::{postprocessing_options, timed_setup, RunRecord, RunStatus};
 use opengrasp_motion::metrics::path_metrics;
 use opengrasp_motion::planners::{IkRrt, Prm, PrmOptions, RrtConnect};
 use opengrasp_motion::problem::MotionPlanner;
 use opengrasp_motion::problem_set::LoadedProblemSet;
-use opengrasp_motion::smoothing::{repair, shortcut, ShortcutOptions};
+use opengrasp_motion::smoothing::{repair, shortcut};
 use opengrasp_motion::validate::validate_path;
 
 use crate::error::{Result, ViewerError};
@@ -105,21 +105,15 @@ pub fn replay(motion: &MotionSection, id: &str, sets: &[Arc<LoadedProblemSet>]) 
     };
     for seed in earlier {
         let instance = (out.world.scene.generate)(seed)?;
-        let problem = instance.problem(&*instance.checker, options.time_limit, seed, options.validation.step);
+        let problem = instance.problem(instance.planner_checker(), options.time_limit, seed, options.validation.step);
         let _ = planner.plan(&problem);
     }
     let instance = &out.world.instance;
     let seed = out.record.seed;
-    let problem = instance.problem(&*instance.checker, options.time_limit, seed, options.validation.step);
+    let problem = instance.problem(instance.planner_checker(), options.time_limit, seed, options.validation.step);
     let solution = planner.plan(&problem)?;
     // Post-processing exactly as `run_once` does it (its options, repair then shortcut).
-    let shortcut_options = ShortcutOptions {
-        seed,
-        step: options.validation.strict_step,
-        planning_step: options.validation.step,
-        ccd: options.validation.ccd,
-        ..options.shortcut
-    };
+    let shortcut_options = postprocessing_options(options, seed);
     let limits = instance.group.limits(&instance.robot);
     let (repaired, _) = repair(&*instance.checker, &solution.path, &limits, &shortcut_options);
     let (smoothed, _) = shortcut(&*instance.checker, &repaired, &shortcut_options);
