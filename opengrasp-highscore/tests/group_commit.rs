@@ -46,6 +46,7 @@ fn a_rejected_submission_in_a_group_leaves_the_others_stored() {
 #[test]
 fn concurrent_grouped_uploads_are_each_stored_once() {
     let dir = std::env::temp_dir().join(format!("opengrasp-group-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok(); // a stale database from an earlier process with this id
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("board.sqlite");
     let db = Arc::new(Db::open(&path).unwrap());

@@ -8,9 +8,13 @@ use opengrasp_motion::benchmark::{BenchmarkOptions, PathReport, RunRecord, RunSt
 use opengrasp_motion::metrics::PathMetrics;
 use opengrasp_motion::validate::PathValidity;
 
+/// Provenance with fixed timestamps: a fixture built twice is the same submission (same
+/// content hash) whatever the clock did in between.
 pub fn provenance() -> Provenance {
     let mut p = Provenance::collect("custom", 1);
     p.git_commit = None;
+    p.started_at = "2026-01-01T00:00:00Z".into();
+    p.finished_at = p.started_at.clone();
     p
 }
 
