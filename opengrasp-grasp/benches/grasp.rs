@@ -72,20 +72,28 @@ fn throughput(c: &mut Criterion) {
 }
 
 /// The 6-D hulls of the mix's force-closure grasps: the optimised builder and the previous one.
-fn hull6d(c: &mut Criterion) {
-    let mut sets: Vec<Vec<f64>> = Vec::new();
+/// The primitive wrenches of every grasp of the mix, with the grasp's force-closure verdict.
+fn mix_wrench_sets() -> Vec<(bool, Vec<Wrench>)> {
+    let mut sets = Vec::new();
     for (ev, object, candidates) in &mut suite_mix() {
         let frame = ObjectFrame::from_points(object.center_of_mass(), object.mesh.vertices()).expect("frame");
         let model = ContactModel { friction: object.friction, ..ContactModel::default() };
         for candidate in candidates.iter() {
             let e = ev.evaluate(candidate).expect("evaluation");
-            if e.force_closure() {
-                let contacts: Vec<_> = e.contacts.iter().map(|c| c.contact).collect();
-                let ws = GraspWrenchSpace::new(&contacts, &frame, &model).expect("wrench space");
-                sets.push(ws.wrenches().iter().flat_map(|w| w.iter().copied()).collect());
-            }
+            let contacts: Vec<_> = e.contacts.iter().map(|c| c.contact).collect();
+            let ws = GraspWrenchSpace::new(&contacts, &frame, &model).expect("wrench space");
+            sets.push((e.force_closure(), ws.wrenches().to_vec()));
         }
     }
+    sets
+}
+
+fn hull6d(c: &mut Criterion) {
+    let sets: Vec<Vec<f64>> = mix_wrench_sets()
+        .into_iter()
+        .filter(|(fc, _)| *fc)
+        .map(|(_, w)| w.iter().flat_map(|w| w.iter().copied()).collect())
+        .collect();
     let mut group = c.benchmark_group("hull6d");
     group.throughput(Throughput::Elements(sets.len() as u64));
     group.sample_size(10);
@@ -111,19 +119,11 @@ fn hull6d(c: &mut Criterion) {
 /// min-norm distance where the LP finds no strict margin (as the evaluator runs them), solved
 /// by the dense solvers and by clarabel in the same process.
 fn fc_solvers(c: &mut Criterion) {
-    let mut sets: Vec<Vec<Wrench>> = Vec::new();
-    for (ev, object, candidates) in &mut suite_mix() {
-        let frame = ObjectFrame::from_points(object.center_of_mass(), object.mesh.vertices()).expect("frame");
-        let model = ContactModel { friction: object.friction, ..ContactModel::default() };
-        for candidate in candidates.iter() {
-            let e = ev.evaluate(candidate).expect("evaluation");
-            let contacts: Vec<_> = e.contacts.iter().map(|c| c.contact).collect();
-            let ws = GraspWrenchSpace::new(&contacts, &frame, &model).expect("wrench space");
-            if ws.affine_rank(1e-9) == 6 {
-                sets.push(ws.wrenches().to_vec());
-            }
-        }
-    }
+    let sets: Vec<Vec<Wrench>> = mix_wrench_sets()
+        .into_iter()
+        .filter(|(_, w)| GraspWrenchSpace::from_wrenches(w.clone()).expect("wrenches").affine_rank(1e-9) == 6)
+        .map(|(_, w)| w)
+        .collect();
     let mut group = c.benchmark_group("fc_solvers");
     group.throughput(Throughput::Elements(sets.len() as u64));
     group.sample_size(10);

@@ -145,16 +145,8 @@ fn regular_simplex_margin_and_distance() {
 }
 
 #[test]
-fn min_norm_distance_of_a_shifted_simplex_and_a_segment() {
-    // Nearest point (1, 0, …) of a face spanned by three of the points (as tests/quality.rs).
-    let w = [
-        Vector6::new(1.0, 0.0, 0.0, 0.0, 0.0, 0.0),
-        Vector6::new(1.0, 1.0, 0.0, 0.0, 0.0, 0.0),
-        Vector6::new(1.0, -1.0, 0.5, 0.0, 0.0, 0.0),
-        Vector6::new(2.0, 0.0, 0.0, 3.0, 0.0, 0.0),
-    ];
-    assert!((min_norm_distance(&w).unwrap() - 1.0).abs() < 1e-15);
-    // A segment from (−1, 1, …) to (3, 1, …): nearest point (0, 1, …) in its interior.
+fn min_norm_distance_of_a_segment_and_single_points() {
+    // (The shifted-simplex case is in tests/quality.rs.) A segment from (−1, 1, …) to (3, 1, …): nearest point (0, 1, …) in its interior.
     let seg = [Vector6::new(-1.0, 1.0, 0.0, 0.0, 0.0, 0.0), Vector6::new(3.0, 1.0, 0.0, 0.0, 0.0, 0.0)];
     assert!((min_norm_distance(&seg).unwrap() - 1.0).abs() < 1e-15);
     // A single point, and a set with the origin as a member.
