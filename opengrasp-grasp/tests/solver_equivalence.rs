@@ -13,7 +13,7 @@ use nalgebra::{Point3, Vector3, Vector6};
 use opengrasp_grasp::quality::solver::{
     min_norm_distance, min_norm_point, strict_combination, strict_combination_vertex,
 };
-use opengrasp_grasp::{Contact, ContactModel, ContactType, GraspWrenchSpace, ObjectFrame, Wrench};
+use opengrasp_grasp::{Contact, ContactModel, ContactType, GraspError, GraspWrenchSpace, ObjectFrame, Wrench};
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -199,7 +199,13 @@ fn origin_on_a_facet_has_zero_margin() {
 }
 
 #[test]
-fn empty_wrench_sets_are_rejected() {
-    assert!(strict_combination_vertex(&[]).is_err());
-    assert!(min_norm_distance(&[]).is_err());
+fn empty_and_non_finite_wrench_sets_are_rejected() {
+    assert!(matches!(strict_combination_vertex(&[]), Err(GraspError::InvalidParameter { .. })));
+    assert!(matches!(min_norm_distance(&[]), Err(GraspError::InvalidParameter { .. })));
+    for bad in [f64::NAN, f64::INFINITY] {
+        let mut w = vec![Vector6::repeat(1.0), Vector6::repeat(-1.0), Vector6::new(1.0, -1.0, 0.0, 0.0, 0.0, 0.0)];
+        w[0][2] = bad;
+        assert!(matches!(strict_combination_vertex(&w), Err(GraspError::NonFinite { .. })));
+        assert!(matches!(min_norm_distance(&w), Err(GraspError::NonFinite { .. })));
+    }
 }

@@ -183,15 +183,22 @@ pub struct StrictCombination {
 /// [`strict_combination`] when the weights are used as a force distribution.
 ///
 /// # Errors
-/// As [`strict_combination`].
+/// [`GraspError::InvalidParameter`] for an empty wrench set, [`GraspError::NonFinite`] for a
+/// NaN or infinite component; [`GraspError::Solver`] if the fallback fails.
 pub fn strict_combination_vertex(wrenches: &[Wrench]) -> Result<StrictCombination> {
-    if wrenches.is_empty() {
-        return Err(GraspError::InvalidParameter { name: "wrenches", reason: "empty wrench set".into() });
-    }
+    check_wrenches(wrenches)?;
     match super::dense::strict_lp(wrenches) {
         Some((margin, weights)) => Ok(StrictCombination { margin, weights }),
         None => strict_combination(wrenches),
     }
+}
+
+/// A non-empty wrench set with finite components.
+fn check_wrenches(wrenches: &[Wrench]) -> Result<()> {
+    if wrenches.is_empty() {
+        return Err(GraspError::InvalidParameter { name: "wrenches", reason: "empty wrench set".into() });
+    }
+    crate::error::ensure_finite("wrenches", wrenches.iter().flat_map(|w| w.iter().copied()))
 }
 
 /// The strict force-closure LP's optimum `s` alone (see [`strict_combination_vertex`]).
@@ -209,8 +216,9 @@ pub fn positive_combination_margin(wrenches: &[Wrench]) -> Result<f64> {
 /// [`min_norm_point`] if Wolfe's algorithm does not converge.
 ///
 /// # Errors
-/// As [`min_norm_point`].
+/// As [`strict_combination_vertex`].
 pub fn min_norm_distance(wrenches: &[Wrench]) -> Result<f64> {
+    check_wrenches(wrenches)?;
     match super::dense::wolfe_min_norm(wrenches) {
         Some((distance, _)) => Ok(distance),
         None => Ok(min_norm_point(wrenches)?.distance),
