@@ -64,6 +64,7 @@ fn box_sphere_distance_is_analytic() {
     assert!((rep.point_on_robot - Point3::new(0.74, 0.82, 0.2)).norm() < TOL);
     assert!(!world.in_collision(r, &[]).unwrap());
     assert!((world.link_distances(r, &[]).unwrap()[0] - 0.4).abs() < TOL);
+    assert_eq!(world.min_distance(r, &[]).unwrap(), rep.distance);
 }
 
 #[test]
@@ -71,6 +72,8 @@ fn sphere_sphere_distance_and_penetration() {
     let (scene, r) = probe_scene(sphere(0.2), t(1.0, 0.0, 0.0), vec![body("ball", Isometry3::identity(), sphere(0.3))]);
     let mut world = CollisionWorld::new(&scene).unwrap();
     assert!((world.distance(r, &[]).unwrap().distance - 0.5).abs() < TOL);
+    // The separation alone is the same number, bit for bit.
+    assert_eq!(world.min_distance(r, &[]).unwrap(), world.distance(r, &[]).unwrap().distance);
     assert!(!world.in_collision(r, &[]).unwrap());
     world.set_robot_base_pose(r, t(0.4, 0.0, 0.0)).unwrap();
     let rep = world.distance(r, &[]).unwrap();
@@ -79,8 +82,9 @@ fn sphere_sphere_distance_and_penetration() {
     assert!((rep.point_on_robot - Point3::new(0.2, 0.0, 0.0)).norm() < TOL);
     assert!((rep.point_on_other - Point3::new(0.3, 0.0, 0.0)).norm() < TOL);
     assert!(world.in_collision(r, &[]).unwrap());
-    // Exact distance (not depth) per link.
+    // Exact distance (not depth) per link, and for the robot as a whole.
     assert_eq!(world.link_distances(r, &[]).unwrap(), vec![0.0]);
+    assert_eq!(world.min_distance(r, &[]).unwrap(), 0.0);
 }
 
 #[test]
@@ -414,6 +418,7 @@ fn empty_scene_distance_is_an_error_and_link_distances_infinite() {
     let (scene, arm, robot) = arm_scene();
     let world = CollisionWorld::new(&scene).unwrap();
     assert!(matches!(world.distance(arm, &[0.0; 7]), Err(CoreError::EmptyScene { .. })));
+    assert!(matches!(world.min_distance(arm, &[0.0; 7]), Err(CoreError::EmptyScene { .. })));
     let d = world.link_distances(arm, &[0.0; 7]).unwrap();
     assert_eq!(d.len(), robot.links().len());
     assert!(d.iter().all(|v| *v == f64::INFINITY));

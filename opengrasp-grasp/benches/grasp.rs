@@ -3,7 +3,8 @@
 //! non-convex detergent bottle; the evaluation throughput on a mix of candidates like the
 //! default suite's (`throughput/…`, reported in candidates per second on one core); the 6-D
 //! hull of the force-closure grasps of that mix, optimised builder against the previous one
-//! (`hull6d/…`); and candidate generation of the two reference planners. Inputs are
+//! (`hull6d/…`); the force-closure LP and min-norm programs of that mix, dense solvers against
+//! clarabel (`fc_solvers/…`); and candidate generation of the two reference planners. Inputs are
 //! deterministic (fixed candidates, seed 0).
 //!
 //! Run briefly with `cargo bench -p opengrasp-grasp --bench grasp -- --warm-up-time 1 --measurement-time 3`.
@@ -16,7 +17,8 @@ use opengrasp_core::hand::Hand;
 use opengrasp_core::object::ObjectModel;
 use opengrasp_grasp::evaluator::{EvaluatorOptions, GraspEvaluator};
 use opengrasp_grasp::planners::{GraspCandidate, GraspPlanner, GraspRequest, MedialAxisPlanner, SurfaceNormalPlanner};
-use opengrasp_grasp::{ContactModel, ConvexHull, GraspWrenchSpace, HullOptions, ObjectFrame};
+use opengrasp_grasp::quality::solver;
+use opengrasp_grasp::{ContactModel, ConvexHull, GraspWrenchSpace, HullOptions, ObjectFrame, Wrench};
 
 /// The default suite's objects: the stock objects without the measuring cup (the last one).
 fn suite_objects() -> &'static [&'static str] {
@@ -70,20 +72,28 @@ fn throughput(c: &mut Criterion) {
 }
 
 /// The 6-D hulls of the mix's force-closure grasps: the optimised builder and the previous one.
-fn hull6d(c: &mut Criterion) {
-    let mut sets: Vec<Vec<f64>> = Vec::new();
+/// The primitive wrenches of every grasp of the mix, with the grasp's force-closure verdict.
+fn mix_wrench_sets() -> Vec<(bool, Vec<Wrench>)> {
+    let mut sets = Vec::new();
     for (ev, object, candidates) in &mut suite_mix() {
         let frame = ObjectFrame::from_points(object.center_of_mass(), object.mesh.vertices()).expect("frame");
         let model = ContactModel { friction: object.friction, ..ContactModel::default() };
         for candidate in candidates.iter() {
             let e = ev.evaluate(candidate).expect("evaluation");
-            if e.force_closure() {
-                let contacts: Vec<_> = e.contacts.iter().map(|c| c.contact).collect();
-                let ws = GraspWrenchSpace::new(&contacts, &frame, &model).expect("wrench space");
-                sets.push(ws.wrenches().iter().flat_map(|w| w.iter().copied()).collect());
-            }
+            let contacts: Vec<_> = e.contacts.iter().map(|c| c.contact).collect();
+            let ws = GraspWrenchSpace::new(&contacts, &frame, &model).expect("wrench space");
+            sets.push((e.force_closure(), ws.wrenches().to_vec()));
         }
     }
+    sets
+}
+
+fn hull6d(c: &mut Criterion) {
+    let sets: Vec<Vec<f64>> = mix_wrench_sets()
+        .into_iter()
+        .filter(|(fc, _)| *fc)
+        .map(|(_, w)| w.iter().flat_map(|w| w.iter().copied()).collect())
+        .collect();
     let mut group = c.benchmark_group("hull6d");
     group.throughput(Throughput::Elements(sets.len() as u64));
     group.sample_size(10);
@@ -99,6 +109,39 @@ fn hull6d(c: &mut Criterion) {
         b.iter(|| {
             for s in &sets {
                 black_box(ConvexHull::from_flat_reference(6, s, &options).expect("hull"));
+            }
+        })
+    });
+    group.finish();
+}
+
+/// The force-closure programs of every closed grasp of the mix: the strict LP, and the
+/// min-norm distance where the LP finds no strict margin (as the evaluator runs them), solved
+/// by the dense solvers and by clarabel in the same process.
+fn fc_solvers(c: &mut Criterion) {
+    let sets: Vec<Vec<Wrench>> = mix_wrench_sets()
+        .into_iter()
+        .filter(|(_, w)| GraspWrenchSpace::from_wrenches(w.clone()).expect("wrenches").affine_rank(1e-9) == 6)
+        .map(|(_, w)| w)
+        .collect();
+    let mut group = c.benchmark_group("fc_solvers");
+    group.throughput(Throughput::Elements(sets.len() as u64));
+    group.sample_size(10);
+    group.bench_function(format!("suite_{}/dense", sets.len()), |b| {
+        b.iter(|| {
+            for w in &sets {
+                if solver::strict_combination_vertex(w).expect("lp").margin <= 1e-6 {
+                    black_box(solver::min_norm_distance(w).expect("qp"));
+                }
+            }
+        })
+    });
+    group.bench_function(format!("suite_{}/clarabel", sets.len()), |b| {
+        b.iter(|| {
+            for w in &sets {
+                if solver::strict_combination(w).expect("lp").margin <= 1e-6 {
+                    black_box(solver::min_norm_point(w).expect("qp").distance);
+                }
             }
         })
     });
@@ -160,6 +203,13 @@ fn planning(c: &mut Criterion) {
 mod group {
     // `criterion_group!` generates an undocumented public function.
     #![allow(missing_docs)]
-    criterion::criterion_group!(benches, super::evaluation, super::throughput, super::hull6d, super::planning);
+    criterion::criterion_group!(
+        benches,
+        super::evaluation,
+        super::throughput,
+        super::hull6d,
+        super::fc_solvers,
+        super::planning
+    );
 }
 criterion_main!(group::benches);

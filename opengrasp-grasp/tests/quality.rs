@@ -2,7 +2,7 @@
 //! random grasps.
 
 use nalgebra::{Point3, Unit, Vector3, Vector6};
-use opengrasp_grasp::quality::solver::min_norm_point;
+use opengrasp_grasp::quality::solver::{min_norm_distance, min_norm_point};
 use opengrasp_grasp::{
     Contact, ContactModel, ContactType, ConvexHull, GraspError, GraspQuality, GraspWrenchSpace, HullOptions,
     ObjectFrame, QualityOptions, RobustOptions,
@@ -467,6 +467,8 @@ fn min_norm_point_of_a_shifted_simplex() {
     ];
     let m = min_norm_point(&w).unwrap();
     assert!((m.distance - 1.0).abs() < 1e-7, "{}", m.distance);
+    // Wolfe's algorithm (what the quality metrics use) is exact up to rounding.
+    assert!((min_norm_distance(&w).unwrap() - 1.0).abs() < 1e-15);
     assert!((m.weights.iter().sum::<f64>() - 1.0).abs() < 1e-12);
     assert!(m.weights[0] > 0.99);
 }

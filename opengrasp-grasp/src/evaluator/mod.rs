@@ -286,9 +286,11 @@ impl GraspEvaluator {
             self.place(&at(s), &rfp)?;
             // The hull distance bounds the exact one from below and is cheap: use it while
             // the hand is far from the hull.
-            let mut d = self.hull_world.distance(self.robot, &q_open)?.distance;
+            // (The separation alone: a touching or penetrating hand gives 0, which stops the
+            // approach just as the penetration depth did, without the witness-point query.)
+            let mut d = self.hull_world.min_distance(self.robot, &q_open)?;
             if d <= HULL_SWITCH_DISTANCE && !self.convex {
-                d = self.world.distance(self.robot, &q_open)?.distance;
+                d = self.world.min_distance(self.robot, &q_open)?;
             }
             if d <= o.approach_tolerance {
                 touched = true;

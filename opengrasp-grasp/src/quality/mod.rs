@@ -5,17 +5,19 @@
 //! [`ContactModel`]; they act on the grasp wrench space `W = conv{wᵢ}` of the primitive
 //! wrenches (see [`crate::contact`]).
 //!
-//! * **Min-norm distance** (the force-closure QP): distance from the origin to `W`, solved
-//!   by clarabel ([`solver::min_norm_point`]). Zero iff the origin is in `W`
+//! * **Min-norm distance** (the force-closure QP): distance from the origin to `W`, by
+//!   Wolfe's active-set algorithm ([`solver::min_norm_distance`]; clarabel's
+//!   [`solver::min_norm_point`] is the fallback). Zero iff the origin is in `W`
 //!   ([`QualityReport::origin_in_hull`]). When the strict LP below already found a
-//!   strictly positive zero combination, its residual is reported instead (≈ 1e-9) and the
+//!   strictly positive zero combination, its residual is reported instead (≈ 1e-16) and the
 //!   QP is skipped. This alone cannot tell a grasp whose wrench space
 //!   merely touches the origin (e.g. two antipodal point contacts, which cannot resist a
 //!   torque about their axis) from a force-closure grasp.
 //! * **Force closure** (strict): the origin lies in the *interior* of `W`. Tested as
 //!   (a) the wrenches span 6 affine dimensions (singular values of the centred wrench matrix,
 //!   [`QualityOptions::rank_tolerance`]) and (b) the LP "largest `s` with `Σλᵢwᵢ = 0`,
-//!   `Σλᵢ = 1`, `λᵢ ≥ s`" has `s > tolerance` ([`solver::positive_combination_margin`]):
+//!   `Σλᵢ = 1`, `λᵢ ≥ s`" has `s > tolerance` (a dense simplex,
+//!   [`solver::strict_combination_vertex`]; clarabel's [`solver::strict_combination`] is the fallback):
 //!   a strictly positive combination puts the origin in the relative interior of `W`, and
 //!   full dimension makes that the interior.
 //! * **Epsilon** (Ferrari-Canny, L1 variant): the radius of the largest origin-centred ball
@@ -27,6 +29,7 @@
 //! configurations…) are *degenerate*: they never give force closure, epsilon and volume
 //! are 0 and [`QualityReport::degenerate`] is set; nothing panics.
 
+mod dense;
 pub mod hull;
 pub mod solver;
 
@@ -243,7 +246,7 @@ impl GraspQuality {
         report.wrench_dimension = ws.affine_rank(options.rank_tolerance);
         report.degenerate = report.wrench_dimension < 6;
         if !report.degenerate {
-            let strict = solver::strict_combination(wrenches)?;
+            let strict = solver::strict_combination_vertex(wrenches)?;
             report.positive_combination_margin = strict.margin;
             report.force_closure = strict.margin > options.tolerance;
             if report.force_closure {
@@ -255,7 +258,7 @@ impl GraspQuality {
             }
         }
         if !report.min_norm_distance.is_finite() || report.min_norm_distance > options.tolerance {
-            report.min_norm_distance = solver::min_norm_point(wrenches)?.distance;
+            report.min_norm_distance = solver::min_norm_distance(wrenches)?;
         }
         report.origin_in_hull = report.min_norm_distance <= options.tolerance;
         if report.degenerate {

@@ -1,4 +1,10 @@
-//! The two conic programs behind the force-closure tests, solved with clarabel.
+//! The two programs behind the force-closure tests: the strict LP and the min-norm point.
+//!
+//! The quality metrics use the dense active-set solvers ([`strict_combination_vertex`],
+//! [`min_norm_distance`]: exact up to rounding, ~100× fewer instructions on grasp-sized wrench
+//! sets); the clarabel interior-point solves ([`strict_combination`], [`min_norm_point`]) are
+//! their fallback and return weights in the interior of the optimal face, which is what a force
+//! distribution wants.
 
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
@@ -164,12 +170,59 @@ pub struct StrictCombination {
     pub weights: Option<Vec<f64>>,
 }
 
-/// The strict force-closure LP's optimum `s` alone (see [`strict_combination`]).
+/// The strict force-closure LP of [`strict_combination`] solved at a vertex by a dense
+/// two-phase simplex (7 rows, one column per wrench): the same optimum `s` (to about `1e-12`
+/// where clarabel's is accurate to about `1e-8`), with vertex weights, which make
+/// `Σ λᵢ wᵢ = 0` to rounding error. Falls back to [`strict_combination`] if the simplex
+/// cannot certify its result (never seen on grasp wrench sets, kept for safety).
+///
+/// Unlike clarabel, which stalls on degenerate programs whose optimum is `s = 0` (the origin on
+/// the boundary), this returns that optimum (`≈ 0`); `-∞` only when the origin is outside the
+/// affine hull. Each optimum is a vertex, so when the optimal weights are not unique they can
+/// differ from clarabel's (which lie in the interior of the optimal face): use
+/// [`strict_combination`] when the weights are used as a force distribution.
+///
+/// # Errors
+/// [`GraspError::InvalidParameter`] for an empty wrench set, [`GraspError::NonFinite`] for a
+/// NaN or infinite component; [`GraspError::Solver`] if the fallback fails.
+pub fn strict_combination_vertex(wrenches: &[Wrench]) -> Result<StrictCombination> {
+    check_wrenches(wrenches)?;
+    match super::dense::strict_lp(wrenches) {
+        Some((margin, weights)) => Ok(StrictCombination { margin, weights }),
+        None => strict_combination(wrenches),
+    }
+}
+
+/// A non-empty wrench set with finite components.
+fn check_wrenches(wrenches: &[Wrench]) -> Result<()> {
+    if wrenches.is_empty() {
+        return Err(GraspError::InvalidParameter { name: "wrenches", reason: "empty wrench set".into() });
+    }
+    crate::error::ensure_finite("wrenches", wrenches.iter().flat_map(|w| w.iter().copied()))
+}
+
+/// The strict force-closure LP's optimum `s` alone (see [`strict_combination_vertex`]).
 ///
 /// # Errors
 /// See [`strict_combination`].
 pub fn positive_combination_margin(wrenches: &[Wrench]) -> Result<f64> {
-    Ok(strict_combination(wrenches)?.margin)
+    Ok(strict_combination_vertex(wrenches)?.margin)
+}
+
+/// Distance from the origin to the convex hull of `wrenches` (the value of
+/// [`min_norm_point`]) by Wolfe's min-norm-point algorithm, an exact active-set method: the
+/// norm of a convex combination (an upper bound of the distance, as [`min_norm_point`]'s)
+/// within about `1e-15 / distance` of the optimum in wrench units². Falls back to
+/// [`min_norm_point`] if Wolfe's algorithm does not converge.
+///
+/// # Errors
+/// As [`strict_combination_vertex`].
+pub fn min_norm_distance(wrenches: &[Wrench]) -> Result<f64> {
+    check_wrenches(wrenches)?;
+    match super::dense::wolfe_min_norm(wrenches) {
+        Some((distance, _)) => Ok(distance),
+        None => Ok(min_norm_point(wrenches)?.distance),
+    }
 }
 
 /// `‖Σ λ̂ᵢ wᵢ‖` for the projection `λ̂` of `weights` onto the probability simplex by clamping

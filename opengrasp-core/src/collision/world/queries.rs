@@ -339,34 +339,8 @@ impl CollisionWorld {
     pub fn distance(&self, robot: RobotId, q: &[f64]) -> Result<DistanceReport> {
         self.validate(robot, q)?;
         let rid = robot.0;
-        if !self.has_obstacles(rid) {
-            return Err(CoreError::EmptyScene { reason: "the robot has no obstacle to measure a distance to".into() });
-        }
         with_scratch(|s| {
-            self.place(rid, q, s);
-            // Items in increasing order of their AABB lower bound, so that the bound tightens
-            // early and far links are pruned without exact queries.
-            s.order.clear();
-            for (k, item) in s.items.iter().enumerate() {
-                s.order.push((self.item_lower_bound(rid, item), k as u32));
-            }
-            s.order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
-            let mut best: Option<(usize, Nearest<'_>)> = None;
-            let mut bound = f64::INFINITY;
-            for &(lb, k) in &s.order {
-                if lb >= bound {
-                    break;
-                }
-                if let Some(n) = self.item_min_distance(rid, &s.items[k as usize], bound) {
-                    bound = n.distance;
-                    best = Some((k as usize, n));
-                }
-            }
-            let Some((k, nearest)) = best else {
-                return Err(CoreError::EmptyScene {
-                    reason: "no obstacle within reach of the robot's geometry".into(),
-                });
-            };
+            let (k, nearest) = self.nearest_item(rid, q, s)?;
             let d = nearest.distance;
             let (k, contact, other) = if d <= 0.0 {
                 // Penetrating: report the deepest penetration over all items.
@@ -404,6 +378,45 @@ impl CollisionWorld {
             };
             Ok(DistanceReport { distance, link: item.link, attached, other, point_on_robot: p1, point_on_other: p2 })
         })
+    }
+
+    /// The separation of [`distance`](Self::distance) alone, without its witness points and
+    /// penetration depth: the same value when the robot is clear of its obstacles, `0` when
+    /// it touches or overlaps one. Cheaper (no contact query for the witness points), and all
+    /// that conservative advancement needs.
+    ///
+    /// # Errors
+    /// As [`distance`](Self::distance).
+    pub fn min_distance(&self, robot: RobotId, q: &[f64]) -> Result<f64> {
+        self.validate(robot, q)?;
+        with_scratch(|s| Ok(self.nearest_item(robot.0, q, s)?.1.distance.max(0.0)))
+    }
+
+    /// Places the robot and finds its nearest item and obstacle by branch-and-bound: items in
+    /// increasing order of their AABB lower bound, so that the bound tightens early and far
+    /// links are pruned without exact queries.
+    fn nearest_item<'w>(&'w self, rid: usize, q: &[f64], s: &mut Scratch) -> Result<(usize, Nearest<'w>)> {
+        if !self.has_obstacles(rid) {
+            return Err(CoreError::EmptyScene { reason: "the robot has no obstacle to measure a distance to".into() });
+        }
+        self.place(rid, q, s);
+        s.order.clear();
+        for (k, item) in s.items.iter().enumerate() {
+            s.order.push((self.item_lower_bound(rid, item), k as u32));
+        }
+        s.order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+        let mut best: Option<(usize, Nearest<'_>)> = None;
+        let mut bound = f64::INFINITY;
+        for &(lb, k) in &s.order {
+            if lb >= bound {
+                break;
+            }
+            if let Some(n) = self.item_min_distance(rid, &s.items[k as usize], bound) {
+                bound = n.distance;
+                best = Some((k as usize, n));
+            }
+        }
+        best.ok_or_else(|| CoreError::EmptyScene { reason: "no obstacle within reach of the robot's geometry".into() })
     }
 
     /// Minimum distance of each link (with the objects it carries) to the robot's obstacles,
