@@ -8,8 +8,9 @@
 //! listed; `all` runs the hold check on ten of them, spread evenly, and prints the outcomes;
 //! `K` (0..9, default 0) traces the K-th of those ten: its evaluator contacts with the share
 //! of the grip the force-closure solver gives each (`evaluation_contacts`), then the
-//! simulated contact forces per link at the end of the clamped squeeze and 50 ms after the
-//! release, with the net force the contacts put on the object. SQUEEZE overrides
+//! simulated contact forces per link at the end of the clamped squeeze and every 10 ms for
+//! 50 ms after the release, with the net force the contacts put on the object and how far the
+//! joints moved. SQUEEZE overrides
 //! [`PhysicsCheckOptions::squeeze`]; `solo` gives every coupled joint its own full motor
 //! (`coupled_actuators` off) for comparison with the shared actuator.
 
@@ -90,14 +91,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let squeeze =
         TactileSeriesOptions { squeeze: options.squeeze, physics: options.physics.clone(), ..Default::default() };
-    let (mut engine, _) = squeeze_engine::<RapierBackend>(&hand, &object, grasp, &squeeze)?;
+    let (mut engine, rid) = squeeze_engine::<RapierBackend>(&hand, &object, grasp, &squeeze)?;
     let dt = options.physics.timestep;
     engine.set_object_fixed(ObjectId(0), true)?;
     engine.step_n((options.settle / dt).ceil() as usize, dt)?;
     print_forces("end of the clamped squeeze", &engine, robot, dt)?;
+    let q0 = engine.joint_positions(rid)?;
+    println!("joints at the end of the squeeze {q0:.3?} (evaluated {:.3?})", grasp.q);
     engine.set_object_fixed(ObjectId(0), false)?;
-    engine.step_n((0.05 / dt).ceil() as usize, dt)?;
-    print_forces("50 ms after the release", &engine, robot, dt)?;
+    for k in 1..=5 {
+        engine.step_n((0.01 / dt).ceil() as usize, dt)?;
+        print_forces(&format!("{} ms after the release", 10 * k), &engine, robot, dt)?;
+        let q = engine.joint_positions(rid)?;
+        println!("  joints moved {:.3?} rad", q.iter().zip(&q0).map(|(a, b)| a - b).collect::<Vec<_>>());
+    }
     Ok(())
 }
 

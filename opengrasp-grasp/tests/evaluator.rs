@@ -9,7 +9,8 @@ use opengrasp_grasp::evaluator::{
     PhysicsCheckOptions,
 };
 use opengrasp_grasp::planners::{
-    palm_pose, GraspCandidate, GraspPlanner, GraspRequest, HandInfo, MedialAxisPlanner, Preshape, SurfaceNormalPlanner,
+    fitting_preshape, palm_pose, GraspCandidate, GraspPlanner, GraspRequest, HandInfo, MedialAxisPlanner, Preshape,
+    SurfaceNormalOptions, SurfaceNormalPlanner,
 };
 
 mod common;
@@ -61,6 +62,50 @@ fn hand_info_of_the_stock_hands() {
     assert!((armar.approach.into_inner() - Vector3::x()).norm() < 1e-12);
     assert!(armar.closing.z.abs() > 0.9, "{:?}", armar.closing);
     assert_eq!(armar.preshapes[0], "open");
+    // Per-preshape apertures along the closing axis: the Barrett's spread swings F1 and F2 off
+    // the closing axis (168, 149, 129 mm at 0°, 60°, 90°); the ARMAR-III's power preshape
+    // raises the thumb from along the palm (267 mm, wrist to fingertips) to 251 mm.
+    let ap = |info: &HandInfo| info.preshape_apertures.clone();
+    assert_eq!(barrett.preshapes, ["open", "spherical", "opposed"]);
+    let b = ap(&barrett);
+    assert!((b[0] - 0.168).abs() < 1e-3 && (b[1] - 0.1489).abs() < 1e-3 && (b[2] - 0.129).abs() < 1e-3, "{b:?}");
+    assert!((b[0] - barrett.max_aperture).abs() < 1e-12);
+    let a = ap(&armar);
+    assert!((a[0] - 0.267).abs() < 1e-3 && (a[1] - 0.2511).abs() < 1e-3, "{a:?}");
+    // The surface-normal planner's fitted choice: the tightest aperture with 1 cm clearance
+    // per side, else the widest.
+    assert_eq!(fitting_preshape(&barrett, 0.10), Preshape::Named("opposed".into()));
+    assert_eq!(fitting_preshape(&barrett, 0.12), Preshape::Named("spherical".into()));
+    assert_eq!(fitting_preshape(&barrett, 0.14), Preshape::Default);
+    assert_eq!(fitting_preshape(&barrett, 0.5), Preshape::Default);
+    assert_eq!(fitting_preshape(&armar, 0.2), Preshape::Named("power".into()));
+    let unknown = HandInfo { preshape_apertures: Vec::new(), ..armar.clone() };
+    assert_eq!(fitting_preshape(&unknown, 0.2), Preshape::Default);
+}
+
+#[test]
+fn surface_normal_planner_fits_a_preshape_per_candidate_when_none_is_listed() {
+    let hand = hands::barrett();
+    let info = hand_info(&hand).unwrap();
+    // A 4 × 16 cm plate: 4 cm wide (opposed spread fits) or 16 cm wide (only the open hand
+    // comes close: the widest) along the closing axis, depending on the roll.
+    let mesh = opengrasp_core::model::TriangleMesh::cuboid(Vector3::new(0.16, 0.04, 0.3)).unwrap();
+    let fitted = SurfaceNormalPlanner::new(SurfaceNormalOptions { preshapes: Vec::new(), ..Default::default() });
+    let candidates = fitted.plan(&GraspRequest { hand: &info, object: &mesh, seed: 0 }).unwrap();
+    let default = SurfaceNormalPlanner::default().plan(&GraspRequest { hand: &info, object: &mesh, seed: 0 }).unwrap();
+    assert_eq!(candidates.len(), default.len());
+    assert!(default.iter().all(|c| c.preshape == Preshape::Default));
+    let mut seen = (0, 0);
+    for c in &candidates {
+        let axis = c.hand_pose.rotation * info.closing.into_inner();
+        let (lo, hi) = mesh.vertices().iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v.coords.dot(&axis)), hi.max(v.coords.dot(&axis)))
+        });
+        assert_eq!(c.preshape, fitting_preshape(&info, hi - lo));
+        seen.0 += usize::from(c.preshape == Preshape::Named("opposed".into()));
+        seen.1 += usize::from(c.preshape == Preshape::Default);
+    }
+    assert!(seen.0 > 0 && seen.1 > 0, "{seen:?}");
 }
 
 #[test]
@@ -97,6 +142,21 @@ fn standoff_keeps_the_palm_off_the_object() {
     let p = e.hand_pose.translation.vector;
     assert!((p.x - radius - 0.025).abs() < 2e-3, "palm at {p:?}");
     assert!(!e.palm_contact);
+    // Palm contact means touching, as the paper's "palm in direct contact with the object": a
+    // palm held 1.5 mm off (within the 2 mm contact margin, so its contact is collected)
+    // does not touch (farther than the 1 mm touch distance); 0.5 mm off it does.
+    let palm = hand.robot().link_id("palm").unwrap().0;
+    let gap = |e: &GraspEvaluation| {
+        e.contacts.iter().filter(|c| c.link == palm).map(|c| -c.depth).fold(f64::INFINITY, f64::min)
+    };
+    c.standoff = 0.0015;
+    let off = ev.evaluate(&c).unwrap();
+    assert!(gap(&off) > 1e-3 && gap(&off) < 2e-3, "palm gap {}", gap(&off));
+    assert!(!off.palm_contact);
+    c.standoff = 0.0005;
+    let near = ev.evaluate(&c).unwrap();
+    assert!(gap(&near) < 1e-3, "palm gap {}", gap(&near));
+    assert!(near.palm_contact);
 }
 
 #[test]

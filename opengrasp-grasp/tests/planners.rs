@@ -49,6 +49,7 @@ fn hand() -> HandInfo {
         closing: Unit::new_normalize(Vector3::x()),
         preshapes: vec!["open".into()],
         max_aperture: 0.2,
+        preshape_apertures: vec![0.2],
     }
 }
 

@@ -118,17 +118,7 @@ pub(super) fn hand_data(hand: &Hand) -> Result<HandData> {
     let kk = closing.iamax();
     let closing = Unit::new_unchecked(if closing[kk] < 0.0 { -closing } else { closing });
     // Aperture: extent of the hand's geometry along the closing axis at the open preshape.
-    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for (l, link) in robot.links().iter().enumerate() {
-        for s in &link.collisions {
-            for c in s.aabb_corners() {
-                let t = (to_palm * (fk.as_slice()[l] * c)).coords.dot(&closing);
-                lo = lo.min(t);
-                hi = hi.max(t);
-            }
-        }
-    }
-    let max_aperture = if hi > lo { hi - lo } else { 0.0 };
+    let max_aperture = aperture(robot, fk.as_slice(), &to_palm, &closing);
     // Closing dofs: the links each moves, with a bound on each link's speed per unit of dof
     // motion (sum over the joints the dof drives of |multiplier| × the link's farthest reach
     // from that joint's axis point; 1 per unit for prismatic joints), plus 20 % slack.
@@ -173,11 +163,14 @@ pub(super) fn hand_data(hand: &Hand) -> Result<HandData> {
     }
     let mut root_from_palm = Vec::new();
     let mut preshape_q = Vec::new();
+    let mut preshape_apertures = Vec::new();
     let home = robot.home_configuration();
     for p in hand.preshapes() {
         let q = hand.preshape_configuration(&p.name, &home)?;
         let fkp = forward_kinematics(robot, &q)?;
-        root_from_palm.push(fkp.as_slice()[hand.palm().0] * hand.palm_frame());
+        let rfp = fkp.as_slice()[hand.palm().0] * hand.palm_frame();
+        preshape_apertures.push(aperture(robot, fkp.as_slice(), &rfp.inverse(), &closing));
+        root_from_palm.push(rfp);
         preshape_q.push(q);
     }
     if preshape_q.is_empty() {
@@ -190,6 +183,32 @@ pub(super) fn hand_data(hand: &Hand) -> Result<HandData> {
         closing,
         preshapes: hand.preshapes().iter().map(|p| p.name.clone()).collect(),
         max_aperture,
+        preshape_apertures,
     };
     Ok(HandData { info, root_from_palm, preshape_q, closing: closing_dofs, link_finger, palm_links })
+}
+
+/// Extent (m) of the robot's collision geometry (link poses `fk` in the root frame) along
+/// `axis` of the palm frame (`to_palm` maps root to palm coordinates).
+fn aperture(
+    robot: &opengrasp_core::model::Robot,
+    fk: &[Isometry3<f64>],
+    to_palm: &Isometry3<f64>,
+    axis: &Unit<nalgebra::Vector3<f64>>,
+) -> f64 {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for (l, link) in robot.links().iter().enumerate() {
+        for s in &link.collisions {
+            for c in s.aabb_corners() {
+                let t = (to_palm * (fk[l] * c)).coords.dot(axis);
+                lo = lo.min(t);
+                hi = hi.max(t);
+            }
+        }
+    }
+    if hi > lo {
+        hi - lo
+    } else {
+        0.0
+    }
 }

@@ -76,7 +76,9 @@ pub struct GraspEvaluation {
     pub q: Vec<f64>,
     /// Contacts with the object.
     pub contacts: Vec<GraspContact>,
-    /// True if a palm link touches the object.
+    /// True if a palm link touches the object: closer than
+    /// [`EvaluatorOptions::touch_distance`] (contacts farther than that but within the contact
+    /// margin are still collected, but do not count as the palm touching).
     pub palm_contact: bool,
     /// Number of fingers touching the object.
     pub fingers_in_contact: usize,
@@ -535,7 +537,10 @@ impl GraspEvaluator {
             let finger = self.data.link_finger[l];
             if let Some(f) = finger {
                 fingers[f] = true;
-            } else if self.data.palm_links[l] {
+            } else if self.data.palm_links[l] && c.depth >= -self.options.touch_distance {
+                // The palm touches (as the paper requires, "in direct contact"): within the
+                // distance at which a finger counts as touching, not merely within the wider
+                // contact margin used to collect contacts.
                 palm_contact = true;
             }
             // The core normal points from the object towards the link: inward is its opposite.

@@ -13,7 +13,9 @@ mod medial_axis;
 mod surface_normal;
 
 pub use medial_axis::{MedialAxis, MedialAxisOptions, MedialAxisPlanner, MedialBall, MedialStructure, StructureKind};
-pub use surface_normal::{ApproachSampling, SurfaceNormalOptions, SurfaceNormalPlanner};
+pub use surface_normal::{
+    fitting_preshape, ApproachSampling, SurfaceNormalOptions, SurfaceNormalPlanner, PRESHAPE_CLEARANCE,
+};
 
 use crate::error::{GraspError, Result};
 use nalgebra::{Isometry3, Point3, Rotation3, Translation3, Unit, UnitQuaternion, Vector3};
@@ -37,6 +39,10 @@ pub struct HandInfo {
     pub preshapes: Vec<String>,
     /// Widest object the open hand can enclose between opposing fingers (m).
     pub max_aperture: f64,
+    /// Per preshape (in the order of `preshapes`), the extent (m) of the open hand's geometry
+    /// along `closing`: how wide an object the fingers start around. Empty if unknown (the
+    /// planners then request the default preshape).
+    pub preshape_apertures: Vec<f64>,
 }
 
 /// The preshape (finger configuration before closing) a candidate asks for.

@@ -1,0 +1,77 @@
+//! Hold rates of the physics check for both paper hands over the paper's eight objects, under
+//! check and simulator settings given on the command line: for comparing settings A/B.
+//!
+//! ```text
+//! cargo run --release -p opengrasp-grasp --example physics_sweep -- [KEY=VALUE ...]
+//! ```
+//! Keys (defaults are [`PhysicsCheckOptions::default`]'s): `stiffness` (joint motor, s⁻²),
+//! `damping` (s⁻¹), `squeeze` (rad), `contact_hz`, `iterations`, `timestep` (s), `fixture`
+//! (0/1), `coupled` (0/1), `per_cell` (grasps per planner and object, default 3), `hand`
+//! (`barrett` or `armar3`; default both). Per object and planner the first 128 candidates
+//! (spread evenly) are evaluated and `per_cell` of the force-closure palm grasps, spread
+//! evenly, are checked; the line shows `[force-closure palm grasps] held/checked`.
+
+use opengrasp_assets::{hands, objects};
+use opengrasp_grasp::evaluator::{physics_check, EvaluatorOptions, GraspEvaluator, HoldResult, PhysicsCheckOptions};
+use opengrasp_grasp::planners::{GraspPlanner, GraspRequest, MedialAxisPlanner, SurfaceNormalPlanner};
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut options = PhysicsCheckOptions::default();
+    let (mut per_cell, mut only) = (3usize, String::new());
+    for arg in std::env::args().skip(1) {
+        let (key, value) = arg.split_once('=').ok_or_else(|| format!("expected KEY=VALUE, got `{arg}`"))?;
+        let p = &mut options.physics;
+        match key {
+            "stiffness" => p.joint_stiffness = value.parse()?,
+            "damping" => p.joint_damping = value.parse()?,
+            "squeeze" => options.squeeze = value.parse()?,
+            "contact_hz" => p.contact_frequency = value.parse()?,
+            "iterations" => p.solver_iterations = value.parse()?,
+            "timestep" => p.timestep = value.parse()?,
+            "fixture" => options.fixture = value != "0",
+            "coupled" => p.coupled_actuators = value != "0",
+            "per_cell" => per_cell = value.parse()?,
+            "hand" => only = value.to_string(),
+            _ => return Err(format!("unknown key `{key}`").into()),
+        }
+    }
+    let planners: [&dyn GraspPlanner; 2] = [&MedialAxisPlanner::default(), &SurfaceNormalPlanner::default()];
+    for (name, hand) in [("barrett", hands::barrett()), ("armar3", hands::armar3_hand())] {
+        if !only.is_empty() && only != name {
+            continue;
+        }
+        let (mut checked, mut held, mut slipped) = (0, 0, 0);
+        for object in objects::NAMES.split_at(8).0 {
+            let object = objects::by_name(object)?;
+            let mut evaluator = GraspEvaluator::new(&hand, &object, EvaluatorOptions::default())?;
+            let info = evaluator.hand_info().clone();
+            let request = GraspRequest { hand: &info, object: &object.mesh, seed: 0 };
+            let mut line = format!("{name:8} {:17}", object.name);
+            for planner in planners {
+                let candidates = planner.plan(&request)?;
+                let m = candidates.len().min(128);
+                let mut grasps = Vec::new();
+                for i in 0..m {
+                    let e = evaluator.evaluate(&candidates[i * candidates.len() / m])?;
+                    if e.palm_contact && e.force_closure() {
+                        grasps.push(e);
+                    }
+                }
+                let k = per_cell.min(grasps.len());
+                let mut h = 0;
+                for j in 0..k {
+                    let outcome = physics_check(&hand, &object, &grasps[j * grasps.len() / k], &options)?;
+                    h += usize::from(outcome.held());
+                    slipped += usize::from(outcome.result() == Some(HoldResult::Slipped));
+                }
+                checked += k;
+                held += h;
+                line += &format!("  [{:3}] {h}/{k}", grasps.len());
+            }
+            println!("{line}");
+        }
+        let rate = 100.0 * held as f64 / checked.max(1) as f64;
+        println!("{name}: held {held}/{checked} ({rate:.0} %), slipped {slipped}");
+    }
+    Ok(())
+}
