@@ -180,6 +180,8 @@ struct Bidirectional<'p, 'a> {
     range: f64,
     trees: [Tree; 2],
     max_roots: usize,
+    /// Roots of the goal tree so far (kept, not counted per iteration).
+    goal_roots: usize,
     scratch: Vec<f64>,
     from: Vec<f64>,
     target: Vec<f64>,
@@ -204,6 +206,7 @@ impl<'p, 'a> Bidirectional<'p, 'a> {
             range,
             trees: [start, goal],
             max_roots: usize::MAX,
+            goal_roots: roots.len(),
             scratch: Vec::new(),
             from: Vec::new(),
             target: Vec::new(),
@@ -258,13 +261,13 @@ impl<'p, 'a> Bidirectional<'p, 'a> {
                 return Err(MotionError::Timeout { seconds: problem.time_limit.as_secs_f64() });
             }
             iterations += 1;
-            let roots = self.trees[1].parent.iter().filter(|&&p| p == usize::MAX).count();
             let want_ik = ik_probability > 0.0
-                && roots < self.max_roots
+                && self.goal_roots < self.max_roots
                 && (self.trees[1].nodes.len() == 0 || rng.random::<f64>() < ik_probability);
             if want_ik {
                 if let Some(g) = problem.sample_ik_goal(rng, &limits) {
                     let root = self.trees[1].add(&g, usize::MAX)?;
+                    self.goal_roots += 1;
                     // Try to reach the new root from the start tree right away.
                     if let Extend::Reached(s) = self.connect(0, &g)? {
                         return Ok(self.solution(s, root, iterations));

@@ -7,8 +7,12 @@ use std::cell::RefCell;
 
 use nalgebra::{Isometry3, Point3};
 
-use super::chain::Mat34;
+use super::chain::{Lanes, Mat34};
 use super::ObstacleShape;
+
+mod lanes;
+
+pub(super) use lanes::{and_not, any_lane, LaneCentres, Mask};
 
 /// An obstacle in the form the kernels use: world-to-local rotation (row-major), centre and
 /// the closed-form shape.
@@ -123,10 +127,12 @@ pub(super) struct Centres {
     y: Vec<f64>,
     z: Vec<f64>,
     link: Vec<[f64; 3]>,
-    /// Cluster bounding-sphere centres (placed with their link's spheres).
+    /// Cluster bounding-sphere centres (placed per link when first needed).
     cluster: Vec<[f64; 3]>,
-    /// Whether each link's spheres are placed yet (they are placed when first needed).
+    /// Whether each link's cluster centres are placed yet.
     placed: Vec<bool>,
+    /// Whether each cluster's spheres are placed yet (when a test first needs them).
+    cluster_placed: Vec<bool>,
 }
 
 /// Per-thread buffers of the sphere model's state checks.
@@ -136,6 +142,13 @@ pub(super) struct Scratch {
     pub centres: Centres,
     pub coarse: Centres,
     pub q: Vec<f64>,
+    /// Buffers of the batched kernels: frame poses, fine and coarse centres, group values
+    /// per lane, and the order of a motion's states.
+    pub lane_frames: Vec<[Lanes; 12]>,
+    pub lane_centres: LaneCentres,
+    pub lane_coarse: LaneCentres,
+    pub lane_q: Vec<Lanes>,
+    pub order: Vec<usize>,
 }
 
 thread_local! {
@@ -233,25 +246,37 @@ impl SphereSoa {
         out.cluster.resize(self.clusters.len(), [0.0; 3]);
         out.placed.clear();
         out.placed.resize(self.ranges.len(), false);
+        out.cluster_placed.clear();
+        out.cluster_placed.resize(self.clusters.len(), false);
         for (&f, lc) in self.frame.iter().zip(&self.link_centre) {
             out.link.push(transform(&frames[f], lc.x, lc.y, lc.z));
         }
     }
 
-    /// Places link `k`'s spheres if not yet done.
+    /// Places link `k`'s cluster centres if not yet done.
     #[inline]
     fn ensure(&self, frames: &[Mat34], out: &mut Centres, k: usize) {
         if out.placed[k] {
             return;
         }
         out.placed[k] = true;
-        let (s, e) = self.ranges[k];
         let m = &frames[self.frame[k]];
         let (cs, ce) = self.link_clusters[k];
         for j in cs..ce {
             let c = &self.cluster_centre[j];
             out.cluster[j] = transform(m, c.x, c.y, c.z);
         }
+    }
+
+    /// Places the spheres of cluster `j` of link `k` if not yet done.
+    #[inline]
+    fn ensure_cluster(&self, frames: &[Mat34], out: &mut Centres, k: usize, j: usize) {
+        if out.cluster_placed[j] {
+            return;
+        }
+        out.cluster_placed[j] = true;
+        let m = &frames[self.frame[k]];
+        let (s, e) = self.clusters[j];
         let (xs, ys, zs) = (&self.x[s..e], &self.y[s..e], &self.z[s..e]);
         let (ox, oy, oz) = (&mut out.x[s..e], &mut out.y[s..e], &mut out.z[s..e]);
         for i in 0..xs.len() {
@@ -303,12 +328,19 @@ impl SphereSoa {
             if o.signed_distance(x, y, z) > self.cluster_radius[j] {
                 continue;
             }
+            self.ensure_cluster(frames, c, k, j);
             let (s, e) = self.clusters[j];
             if o.any_hit(&c.x[s..e], &c.y[s..e], &c.z[s..e], &self.r[s..e]) {
                 return false;
             }
         }
         true
+    }
+
+    /// True if links `a` and `b` ride on the same chain frame (their relative pose never
+    /// changes).
+    pub fn rigidly_attached(&self, a: usize, b: usize) -> bool {
+        self.frame[a] == self.frame[b]
     }
 
     /// True if link `k` is fixed in the world (its spheres never move).
@@ -349,11 +381,13 @@ impl SphereSoa {
                 if gap(&pa, &c.cluster[jb], qa + self.cluster_radius[jb]) > 0.0 {
                     continue;
                 }
+                self.ensure_cluster(frames, c, a, ja);
+                self.ensure_cluster(frames, c, b, jb);
                 let ((sa, ea), (sb, eb)) = (self.clusters[ja], self.clusters[jb]);
-                for i in sa..ea {
-                    let (x, y, z, r) = (c.x[i], c.y[i], c.z[i], self.r[i]);
-                    let (xs, ys, zs, rs) = (&c.x[sb..eb], &c.y[sb..eb], &c.z[sb..eb], &self.r[sb..eb]);
-                    let n = xs.len().min(ys.len()).min(zs.len()).min(rs.len());
+                let (xs, ys, zs, rs) = (&c.x[sb..eb], &c.y[sb..eb], &c.z[sb..eb], &self.r[sb..eb]);
+                let n = xs.len().min(ys.len()).min(zs.len()).min(rs.len());
+                let (ax, ay, az, ar) = (&c.x[sa..ea], &c.y[sa..ea], &c.z[sa..ea], &self.r[sa..ea]);
+                for (((&x, &y), &z), &r) in ax.iter().zip(ay).zip(az).zip(ar) {
                     let hit = any(n, |j| {
                         ((xs[j] - x).powi(2) + (ys[j] - y).powi(2) + (zs[j] - z).powi(2)).sqrt() - r - rs[j] <= 0.0
                     });
