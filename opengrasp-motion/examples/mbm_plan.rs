@@ -1,17 +1,18 @@
 //! RRT-Connect on the vendored MotionBenchMaker Panda problems, planned on the layered greedy
 //! sphere model: a fixed workload (every problem of the sets whose name contains FILTER, seeds
 //! `0..SEEDS`, time limit LIMIT s, default 10; `lanes` as a fourth argument checks with
-//! `SphereWorld::with_batched_checks`) for instruction counts (`perf stat`, `valgrind --tool=callgrind`), which stay
+//! `SphereWorld::with_batched_checks` (anything else: one state at a time), a fifth sets
+//! `RrtConnectOptions::dynamic_domain`) for instruction counts (`perf stat`, `valgrind --tool=callgrind`), which stay
 //! comparable on a loaded machine where timings do not. Prints the solved runs, the states
 //! checked and the planning time.
 //!
 //! ```sh
-//! cargo run --release -p opengrasp-motion --example mbm_plan -- cage 20 10 [lanes]
+//! cargo run --release -p opengrasp-motion --example mbm_plan -- cage 20 10 [lanes|single [RADIUS]]
 //! ```
 
 use std::time::{Duration, Instant};
 
-use opengrasp_motion::planners::RrtConnect;
+use opengrasp_motion::planners::{RrtConnect, RrtConnectOptions};
 use opengrasp_motion::problem_set::{self, LoadedProblemSet, PlanningModel};
 use opengrasp_motion::validity::cover::GreedyCoverOptions;
 use opengrasp_motion::validity::CountingChecker;
@@ -26,6 +27,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let sets: Vec<LoadedProblemSet> =
         problem_set::load(dir)?.iter().map(LoadedProblemSet::new).collect::<Result<_, _>>()?;
     let lanes = args.next().is_some_and(|a| a == "lanes");
+    let dynamic_domain: Option<f64> = args.next().map(|s| s.parse()).transpose()?;
+    let options = RrtConnectOptions { dynamic_domain, ..RrtConnectOptions::default() };
     let layered = sets[0].layered_sphere_model(GreedyCoverOptions::default())?.with_batched_checks(lanes);
     let model = PlanningModel::Spheres(std::sync::Arc::new(layered));
     for set in sets.iter().filter(|s| s.name().contains(&filter)) {
@@ -36,7 +39,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 let counter = CountingChecker::new(instance.planner_checker());
                 let problem = instance.problem(&counter, limit, seed, 0.02);
                 let t = Instant::now();
-                solved += usize::from(RrtConnect::default().plan(&problem).is_ok());
+                solved += usize::from(RrtConnect::new(options).plan(&problem).is_ok());
                 time += t.elapsed();
                 checks += counter.checks();
             }
