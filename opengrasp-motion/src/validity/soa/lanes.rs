@@ -151,7 +151,9 @@ impl SphereSoa {
         for j in cs..ce {
             let [x, y, z] = &c.cluster[j];
             let d = ob.distance_lanes(x, y, z);
-            let near: Mask = std::array::from_fn(|l| mask[l] && !hits[l] && !(d[l] > self.cluster_radius[j]));
+            // Culled exactly when the scalar kernel skips the cluster (`d > radius`).
+            let culled: Mask = std::array::from_fn(|l| d[l] > self.cluster_radius[j]);
+            let near = and_not(&and_not(&mask, &hits), &culled);
             if !any_lane(&near) {
                 continue;
             }
