@@ -26,7 +26,7 @@ use opengrasp_motion::planners::{NeighborStructure, RrtConnect};
 use opengrasp_motion::problem_set::PlanningModel;
 use opengrasp_motion::smoothing::{repair, shortcut, ShortcutOptions};
 use opengrasp_motion::validity::cover::GreedyCoverOptions;
-use opengrasp_motion::validity::StateValidityChecker;
+use opengrasp_motion::validity::{OneByOne, StateValidityChecker};
 use opengrasp_motion::MotionPlanner;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -147,19 +147,6 @@ fn mbm_panda(c: &mut Criterion) {
                 b.iter(|| motions.iter().filter(|(a, b)| checker.is_motion_valid(a, b, 0.02)).count())
             });
         }
-    }
-}
-
-/// Forwards only `dim` and `is_valid`, so motions and batches are checked one state at a
-/// time (the trait's defaults).
-struct OneByOne<'a>(&'a dyn StateValidityChecker);
-
-impl StateValidityChecker for OneByOne<'_> {
-    fn dim(&self) -> usize {
-        self.0.dim()
-    }
-    fn is_valid(&self, q: &[f64]) -> bool {
-        self.0.is_valid(q)
     }
 }
 

@@ -10,23 +10,12 @@ use opengrasp_core::model::{samples, JointGroup, Robot};
 use opengrasp_motion::problem_set::{self, LoadedProblemSet};
 use opengrasp_motion::validity::cover::GreedyCoverOptions;
 use opengrasp_motion::validity::{
-    CountingChecker, MeshCover, ObstacleBox, ObstaclePrimitive, ObstacleShape, SphereWorld, StateValidityChecker,
+    CountingChecker, MeshCover, ObstacleBox, ObstaclePrimitive, ObstacleShape, OneByOne, SphereWorld,
+    StateValidityChecker,
 };
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-
-/// Forwards only `dim` and `is_valid`: every other method takes its one-by-one default.
-struct OneByOne<'a>(&'a dyn StateValidityChecker);
-
-impl StateValidityChecker for OneByOne<'_> {
-    fn dim(&self) -> usize {
-        self.0.dim()
-    }
-    fn is_valid(&self, q: &[f64]) -> bool {
-        self.0.is_valid(q)
-    }
-}
 
 /// The 7-DoF sample arm among a box, a ball, a cylinder and a capsule (every closed-form
 /// shape), checked with its plain cover and with a coarse layer (the meshes' bounding boxes)

@@ -11,6 +11,8 @@
 //! - [`cover`]: sphere covers of meshes with a guaranteed bound (every surface point covered).
 //! - [`SphereWorld`]: the links of a core [`Robot`](opengrasp_core::model::Robot) covered by spheres, among oriented boxes.
 //!   Closed-form distances, fast, conservative; used by the stand-in benchmark scenes and tests.
+//! - [`OneByOne`]: wraps any checker so batches and motions are checked one state at a time
+//!   (the reference of batched checks).
 //! - [`CountingChecker`]: wraps any checker and counts the calls (the benchmark uses it to
 //!   report collision checks per run).
 
@@ -179,6 +181,20 @@ impl StateValidityChecker for AlwaysValid {
     }
     fn is_valid(&self, _q: &[f64]) -> bool {
         true
+    }
+}
+
+/// Wraps a checker and forwards only [`StateValidityChecker::dim`] and
+/// [`StateValidityChecker::is_valid`], so batches and motions are checked one state at a time
+/// by the trait's defaults: the reference that batched checkers must match.
+pub struct OneByOne<'a>(pub &'a dyn StateValidityChecker);
+
+impl StateValidityChecker for OneByOne<'_> {
+    fn dim(&self) -> usize {
+        self.0.dim()
+    }
+    fn is_valid(&self, q: &[f64]) -> bool {
+        self.0.is_valid(q)
     }
 }
 
