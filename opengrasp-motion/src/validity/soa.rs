@@ -127,12 +127,10 @@ pub(super) struct Centres {
     y: Vec<f64>,
     z: Vec<f64>,
     link: Vec<[f64; 3]>,
-    /// Cluster bounding-sphere centres (placed per link when first needed).
+    /// Cluster bounding-sphere centres (placed with their link's spheres).
     cluster: Vec<[f64; 3]>,
-    /// Whether each link's cluster centres are placed yet.
+    /// Whether each link's spheres are placed yet (they are placed when first needed).
     placed: Vec<bool>,
-    /// Whether each cluster's spheres are placed yet (when a test first needs them).
-    cluster_placed: Vec<bool>,
 }
 
 /// Per-thread buffers of the sphere model's state checks.
@@ -246,37 +244,25 @@ impl SphereSoa {
         out.cluster.resize(self.clusters.len(), [0.0; 3]);
         out.placed.clear();
         out.placed.resize(self.ranges.len(), false);
-        out.cluster_placed.clear();
-        out.cluster_placed.resize(self.clusters.len(), false);
         for (&f, lc) in self.frame.iter().zip(&self.link_centre) {
             out.link.push(transform(&frames[f], lc.x, lc.y, lc.z));
         }
     }
 
-    /// Places link `k`'s cluster centres if not yet done.
+    /// Places link `k`'s spheres if not yet done.
     #[inline]
     fn ensure(&self, frames: &[Mat34], out: &mut Centres, k: usize) {
         if out.placed[k] {
             return;
         }
         out.placed[k] = true;
+        let (s, e) = self.ranges[k];
         let m = &frames[self.frame[k]];
         let (cs, ce) = self.link_clusters[k];
         for j in cs..ce {
             let c = &self.cluster_centre[j];
             out.cluster[j] = transform(m, c.x, c.y, c.z);
         }
-    }
-
-    /// Places the spheres of cluster `j` of link `k` if not yet done.
-    #[inline]
-    fn ensure_cluster(&self, frames: &[Mat34], out: &mut Centres, k: usize, j: usize) {
-        if out.cluster_placed[j] {
-            return;
-        }
-        out.cluster_placed[j] = true;
-        let m = &frames[self.frame[k]];
-        let (s, e) = self.clusters[j];
         let (xs, ys, zs) = (&self.x[s..e], &self.y[s..e], &self.z[s..e]);
         let (ox, oy, oz) = (&mut out.x[s..e], &mut out.y[s..e], &mut out.z[s..e]);
         for i in 0..xs.len() {
@@ -328,7 +314,6 @@ impl SphereSoa {
             if o.signed_distance(x, y, z) > self.cluster_radius[j] {
                 continue;
             }
-            self.ensure_cluster(frames, c, k, j);
             let (s, e) = self.clusters[j];
             if o.any_hit(&c.x[s..e], &c.y[s..e], &c.z[s..e], &self.r[s..e]) {
                 return false;
@@ -381,8 +366,6 @@ impl SphereSoa {
                 if gap(&pa, &c.cluster[jb], qa + self.cluster_radius[jb]) > 0.0 {
                     continue;
                 }
-                self.ensure_cluster(frames, c, a, ja);
-                self.ensure_cluster(frames, c, b, jb);
                 let ((sa, ea), (sb, eb)) = (self.clusters[ja], self.clusters[jb]);
                 let (xs, ys, zs, rs) = (&c.x[sb..eb], &c.y[sb..eb], &c.z[sb..eb], &self.r[sb..eb]);
                 let n = xs.len().min(ys.len()).min(zs.len()).min(rs.len());
