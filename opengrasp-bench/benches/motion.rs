@@ -4,7 +4,9 @@
 //! of one validity check; and RRT-Connect on the MotionBenchMaker Panda problems vendored in
 //! `opengrasp-motion/tests/data/mbm` (`mbm/<set>/...`: on the Panda's meshes with the exact
 //! checker, and on its guaranteed greedy sphere cover: `rrt_connect_spheres`,
-//! `state_check_spheres`, `state_check_spheres_batch64`).
+//! `state_check_spheres`, `state_check_spheres_batch64`, `motion_check_spheres`, each also
+//! `_lanes` with `SphereWorld::with_batched_checks` and `_one_by_one` through the trait's
+//! one-state defaults).
 //!
 //! ```sh
 //! cargo bench -p opengrasp-bench --bench motion -- --warm-up-time 1 --measurement-time 3
@@ -24,6 +26,7 @@ use opengrasp_motion::planners::{NeighborStructure, RrtConnect};
 use opengrasp_motion::problem_set::PlanningModel;
 use opengrasp_motion::smoothing::{repair, shortcut, ShortcutOptions};
 use opengrasp_motion::validity::cover::GreedyCoverOptions;
+use opengrasp_motion::validity::{OneByOne, StateValidityChecker};
 use opengrasp_motion::MotionPlanner;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -78,8 +81,8 @@ fn bench_scene(c: &mut Criterion, id: &str, scene: BenchmarkScene) {
 fn mbm_panda(c: &mut Criterion) {
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../opengrasp-motion/tests/data/mbm/panda/problems");
     let sets = load_problem_sets(dir).expect("vendored MBM sets");
-    let spheres = Arc::new(sets[0].layered_sphere_model(GreedyCoverOptions::default()).expect("cover"));
-    let model = PlanningModel::Spheres(spheres);
+    let spheres_model = Arc::new(sets[0].layered_sphere_model(GreedyCoverOptions::default()).expect("cover"));
+    let model = PlanningModel::Spheres(spheres_model.clone());
     for set in &sets {
         let instances: Vec<_> =
             (0..set.len()).map(|i| set.instance_with(i, &model).expect("problem instance")).collect();
@@ -110,12 +113,40 @@ fn mbm_panda(c: &mut Criterion) {
         let states: Vec<f64> =
             (0..64).flat_map(|_| limits.iter().map(|l| rng.random_range(l.0..=l.1)).collect::<Vec<_>>()).collect();
         let mut out = vec![false; 64];
-        c.bench_function(&format!("mbm/{}/state_check_spheres_batch64", set.name()), |b| {
-            b.iter(|| {
-                spheres.are_valid(std::hint::black_box(&states), &mut out);
-                out.iter().filter(|&&v| v).count()
-            })
+        let lanes = set.sphere_world(0, &spheres_model).expect("sphere world").with_batched_checks(true);
+        for (row, checker) in [("state_check_spheres_batch64", spheres), ("state_check_spheres_batch64_lanes", &lanes)]
+        {
+            c.bench_function(&format!("mbm/{}/{row}", set.name()), |b| {
+                b.iter(|| {
+                    checker.are_valid(std::hint::black_box(&states), &mut out);
+                    out.iter().filter(|&&v| v).count()
+                })
+            });
+        }
+        // The same 64 states one `is_valid` call at a time: the reference of the batch row.
+        c.bench_function(&format!("mbm/{}/state_check_spheres_one_by_one64", set.name()), |b| {
+            b.iter(|| states.chunks(limits.len()).filter(|q| spheres.is_valid(std::hint::black_box(q))).count())
         });
+        // 32 motions of length 0.5 (the planner's range) from random states, at step 0.02:
+        // batched coarse to fine, and one state at a time in the same order.
+        let motions: Vec<(Vec<f64>, Vec<f64>)> = states
+            .chunks(limits.len())
+            .zip(states.chunks(limits.len()).skip(32))
+            .map(|(a, b)| {
+                let d = opengrasp_motion::validate::distance(a, b);
+                (a.to_vec(), a.iter().zip(b).map(|(x, y)| x + 0.5 / d * (y - x)).collect())
+            })
+            .collect();
+        let one_by_one = OneByOne(spheres);
+        for (row, checker) in [
+            ("motion_check_spheres", spheres),
+            ("motion_check_spheres_lanes", &lanes),
+            ("motion_check_spheres_one_by_one", &one_by_one),
+        ] {
+            c.bench_function(&format!("mbm/{}/{row}", set.name()), |b| {
+                b.iter(|| motions.iter().filter(|(a, b)| checker.is_motion_valid(a, b, 0.02)).count())
+            });
+        }
     }
 }
 

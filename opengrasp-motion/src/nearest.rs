@@ -135,7 +135,28 @@ struct Best {
     items: Vec<(f64, usize)>,
 }
 
-impl Best {
+/// What a kd-tree search collects: candidates offered, and the squared distance a subtree
+/// must not exceed to still matter.
+trait Collect {
+    fn offer(&mut self, d: f64, i: usize);
+    fn bound(&self) -> f64;
+}
+
+/// The single best pair (the `k = 1` case of [`Best`], without allocation).
+struct Nearest(Option<(f64, usize)>);
+
+impl Collect for Nearest {
+    fn offer(&mut self, d: f64, i: usize) {
+        if self.0.is_none_or(|w| before((d, i), w)) {
+            self.0 = Some((d, i));
+        }
+    }
+    fn bound(&self) -> f64 {
+        self.0.map_or(f64::INFINITY, |w| w.0)
+    }
+}
+
+impl Collect for Best {
     fn offer(&mut self, d: f64, i: usize) {
         if self.items.len() == self.k && !self.items.last().is_some_and(|&w| before((d, i), w)) {
             return;
@@ -144,7 +165,6 @@ impl Best {
         self.items.insert(at, (d, i));
         self.items.truncate(self.k);
     }
-    /// Squared distance a subtree must not exceed to still matter.
     fn bound(&self) -> f64 {
         if self.items.len() < self.k {
             f64::INFINITY
@@ -315,7 +335,7 @@ impl KdTree {
 
     /// Visits the leaves whose region may hold a point within squared distance `bound()` of
     /// `q`, nearest region first; `off` holds the per-axis distances from `q` to the region.
-    fn search(&self, n: usize, q: &[f64], off: &mut [f64], best: &mut Best) {
+    fn search(&self, n: usize, q: &[f64], off: &mut [f64], best: &mut impl Collect) {
         match &self.nodes[n] {
             KdNode::Leaf(ids) => {
                 for &i in ids {
@@ -384,7 +404,19 @@ impl NearestNeighbors for KdTree {
     }
     fn nearest(&self, q: &[f64]) -> Result<Option<usize>> {
         check_query(self.dim(), q)?;
-        Ok(self.query(q, 1).items.first().map(|e| e.1))
+        // No allocation per query: the per-axis offsets live on the stack up to 32 axes.
+        let mut best = Nearest(None);
+        let dim = self.points.dim;
+        let mut stack = [0.0; 32];
+        let mut heap = Vec::new();
+        let off = if dim <= stack.len() {
+            &mut stack[..dim]
+        } else {
+            heap.resize(dim, 0.0);
+            &mut heap[..]
+        };
+        self.search(0, q, off, &mut best);
+        Ok(best.0.map(|e| e.1))
     }
     fn k_nearest(&self, q: &[f64], k: usize, out: &mut Vec<(usize, f64)>) -> Result<()> {
         check_query(self.dim(), q)?;

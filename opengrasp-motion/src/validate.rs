@@ -59,6 +59,17 @@ pub(crate) fn segment_valid_discrete_by(valid: impl FnMut(&[f64]) -> bool, a: &[
     segment_valid_discrete_into(&mut Vec::with_capacity(a.len()), valid, a, b, step)
 }
 
+/// The number of equal subdivisions of `a → b` at `step` ([`segment_valid_discrete`]'s `n`;
+/// 1 for a non-positive or non-finite step).
+pub(crate) fn segment_subdivisions(a: &[f64], b: &[f64], step: f64) -> usize {
+    let len = distance(a, b);
+    if step > 0.0 && step.is_finite() {
+        (len / step).ceil() as usize
+    } else {
+        1
+    }
+}
+
 /// [`segment_valid_discrete_by`] with a caller's buffer for the interpolated states.
 pub(crate) fn segment_valid_discrete_into(
     q: &mut Vec<f64>,
@@ -70,8 +81,7 @@ pub(crate) fn segment_valid_discrete_into(
     if !valid(b) {
         return false;
     }
-    let len = distance(a, b);
-    let n = if step > 0.0 && step.is_finite() { (len / step).ceil() as usize } else { 1 };
+    let n = segment_subdivisions(a, b, step);
     if n <= 1 {
         return true;
     }

@@ -18,13 +18,22 @@ pub struct RrtConnectOptions {
     pub ik_goals: usize,
     /// For pose goals: maximum IK attempts to collect them (default 200).
     pub ik_attempts: usize,
+    /// Dynamic-domain sampling (Yershova et al. 2005) with this initial domain radius in
+    /// C-space, or `None` (default: uniform sampling). A random sample is kept only if it lies
+    /// within its nearest node's domain radius; a node's radius is infinite until an extension
+    /// from it fails, then this value, shrunk by 10 % on each further failure (never below
+    /// this value) and grown by 10 % on each success. Deterministic with the seed.
+    pub dynamic_domain: Option<f64>,
 }
 
 impl Default for RrtConnectOptions {
     fn default() -> Self {
-        Self { range: 0.5, ik_goals: 3, ik_attempts: 200 }
+        Self { range: 0.5, ik_goals: 3, ik_attempts: 200, dynamic_domain: None }
     }
 }
+
+/// Growth and shrink factor of dynamic-domain radii.
+const DOMAIN_RATE: f64 = 0.1;
 
 /// RRT-Connect: two trees, rooted at the start and at the goal configuration(s), each
 /// extension of one tree followed by a greedy connection of the other (Kuffner & LaValle 2000).
@@ -53,6 +62,12 @@ impl MotionPlanner for RrtConnect {
 
     fn plan(&mut self, problem: &PlanningProblem<'_>) -> Result<Solution> {
         problem.validate()?;
+        if let Some(r) = self.options.dynamic_domain.filter(|r| !(r.is_finite() && *r > 0.0)) {
+            return Err(MotionError::InvalidParameter {
+                name: "dynamic_domain",
+                reason: format!("radius {r} is not positive and finite"),
+            });
+        }
         let deadline = Deadline::after(problem.time_limit);
         let mut rng = ChaCha8Rng::seed_from_u64(problem.seed);
         let limits = problem.limits();
@@ -72,8 +87,9 @@ impl MotionPlanner for RrtConnect {
                 return Err(MotionError::Timeout { seconds: problem.time_limit.as_secs_f64() });
             }
         }
-        Bidirectional::new(problem, self.neighbors, self.options.range, roots)?
-            .run(&mut rng, &deadline, 0.0, iterations)
+        let mut planner = Bidirectional::new(problem, self.neighbors, self.options.range, roots)?;
+        planner.domain = self.options.dynamic_domain;
+        planner.run(&mut rng, &deadline, 0.0, iterations)
     }
 }
 
@@ -147,15 +163,18 @@ fn goal_roots(problem: &PlanningProblem<'_>) -> Vec<Vec<f64>> {
 struct Tree {
     nodes: Nodes,
     parent: Vec<usize>,
+    /// Dynamic-domain radius per node (infinite until an extension from it fails).
+    radius: Vec<f64>,
 }
 
 impl Tree {
     fn new(kind: NeighborStructure, dim: usize) -> Self {
-        Self { nodes: Nodes::new(kind, dim), parent: Vec::new() }
+        Self { nodes: Nodes::new(kind, dim), parent: Vec::new(), radius: Vec::new() }
     }
     fn add(&mut self, q: &[f64], parent: usize) -> Result<usize> {
         let i = self.nodes.push(q)?;
         self.parent.push(parent);
+        self.radius.push(f64::INFINITY);
         Ok(i)
     }
     /// Configurations from node `i` back to its root.
@@ -180,6 +199,10 @@ struct Bidirectional<'p, 'a> {
     range: f64,
     trees: [Tree; 2],
     max_roots: usize,
+    /// Roots of the goal tree so far (kept, not counted per iteration).
+    goal_roots: usize,
+    /// Initial dynamic-domain radius, if dynamic-domain sampling is on.
+    domain: Option<f64>,
     scratch: Vec<f64>,
     from: Vec<f64>,
     target: Vec<f64>,
@@ -204,6 +227,8 @@ impl<'p, 'a> Bidirectional<'p, 'a> {
             range,
             trees: [start, goal],
             max_roots: usize::MAX,
+            goal_roots: roots.len(),
+            domain: None,
             scratch: Vec::new(),
             from: Vec::new(),
             target: Vec::new(),
@@ -211,8 +236,13 @@ impl<'p, 'a> Bidirectional<'p, 'a> {
     }
 
     fn extend(&mut self, t: usize, target: &[f64]) -> Result<Extend> {
+        let Some(near) = self.trees[t].nodes.nearest(target)? else { return Ok(Extend::Trapped) };
+        self.extend_from(t, near, target)
+    }
+
+    /// Extends tree `t` from node `near` towards `target`.
+    fn extend_from(&mut self, t: usize, near: usize, target: &[f64]) -> Result<Extend> {
         let tree = &mut self.trees[t];
-        let Some(near) = tree.nodes.nearest(target)? else { return Ok(Extend::Trapped) };
         // Reused buffers: no allocation per extension.
         let from = &mut self.from;
         from.clear();
@@ -258,13 +288,13 @@ impl<'p, 'a> Bidirectional<'p, 'a> {
                 return Err(MotionError::Timeout { seconds: problem.time_limit.as_secs_f64() });
             }
             iterations += 1;
-            let roots = self.trees[1].parent.iter().filter(|&&p| p == usize::MAX).count();
             let want_ik = ik_probability > 0.0
-                && roots < self.max_roots
+                && self.goal_roots < self.max_roots
                 && (self.trees[1].nodes.len() == 0 || rng.random::<f64>() < ik_probability);
             if want_ik {
                 if let Some(g) = problem.sample_ik_goal(rng, &limits) {
                     let root = self.trees[1].add(&g, usize::MAX)?;
+                    self.goal_roots += 1;
                     // Try to reach the new root from the start tree right away.
                     if let Extend::Reached(s) = self.connect(0, &g)? {
                         return Ok(self.solution(s, root, iterations));
@@ -274,9 +304,16 @@ impl<'p, 'a> Bidirectional<'p, 'a> {
                     continue;
                 }
             }
-            problem.sample_uniform(rng, &limits, &mut sample);
             let b = 1 - a;
-            let new = match self.extend(a, &sample)? {
+            let extended = match self.sample(a, rng, &limits, &mut sample, deadline)? {
+                Some(near) => {
+                    let extended = self.extend_from(a, near, &sample)?;
+                    self.adapt_domain(a, near, &extended);
+                    extended
+                }
+                None => Extend::Trapped,
+            };
+            let new = match extended {
                 Extend::Trapped => None,
                 Extend::Advanced(n) | Extend::Reached(n) => Some(n),
             };
@@ -292,6 +329,42 @@ impl<'p, 'a> Bidirectional<'p, 'a> {
                 }
             }
             a = b;
+        }
+    }
+
+    /// Updates the dynamic-domain radius of node `near` of tree `t` after an extension from it.
+    fn adapt_domain(&mut self, t: usize, near: usize, extended: &Extend) {
+        let Some(r0) = self.domain else { return };
+        let r = &mut self.trees[t].radius[near];
+        *r = match extended {
+            Extend::Trapped if r.is_infinite() => r0,
+            Extend::Trapped => (*r * (1.0 - DOMAIN_RATE)).max(r0),
+            _ if r.is_finite() => *r * (1.0 + DOMAIN_RATE),
+            _ => *r,
+        };
+    }
+
+    /// A uniform sample for tree `t` into `sample` and its nearest node; with dynamic-domain
+    /// sampling, samples outside their nearest node's domain are drawn again (`None` if the
+    /// tree is empty; a timeout error if the deadline passes while drawing).
+    fn sample(
+        &self,
+        t: usize,
+        rng: &mut ChaCha8Rng,
+        limits: &[(f64, f64)],
+        sample: &mut Vec<f64>,
+        deadline: &Deadline,
+    ) -> Result<Option<usize>> {
+        let tree = &self.trees[t];
+        loop {
+            self.problem.sample_uniform(rng, limits, sample);
+            let Some(near) = tree.nodes.nearest(sample)? else { return Ok(None) };
+            if self.domain.is_none() || distance(tree.nodes.get(near), sample) <= tree.radius[near] {
+                return Ok(Some(near));
+            }
+            if deadline.expired() {
+                return Err(MotionError::Timeout { seconds: self.problem.time_limit.as_secs_f64() });
+            }
         }
     }
 

@@ -120,30 +120,82 @@ impl Chain {
         out.push(IDENTITY);
         for f in &self.frames {
             let m = compose(&out[f.parent], &f.fixed);
-            let v = f.scale * q[f.dof] + f.offset;
-            let [x, y, z] = f.axis;
-            let motion = if f.prismatic {
-                [1.0, 0.0, 0.0, x * v, 0.0, 1.0, 0.0, y * v, 0.0, 0.0, 1.0, z * v]
-            } else {
-                // Rodrigues: R = cI + s[u]× + (1 − c)uuᵀ.
-                let (s, c) = v.sin_cos();
-                let k = 1.0 - c;
-                [
-                    c + k * x * x,
-                    k * x * y - s * z,
-                    k * x * z + s * y,
-                    0.0,
-                    k * x * y + s * z,
-                    c + k * y * y,
-                    k * y * z - s * x,
-                    0.0,
-                    k * x * z - s * y,
-                    k * y * z + s * x,
-                    c + k * z * z,
-                    0.0,
-                ]
-            };
-            out.push(compose(&m, &motion));
+            out.push(compose(&m, &f.motion(q[f.dof])));
+        }
+    }
+
+    /// [`Chain::frames`] of [`LANES`] states at once, struct of arrays: `qs[d][l]` is group
+    /// value `d` of state `l`, and `out[f][i][l]` entry `i` of frame `f`'s pose in state `l`.
+    /// Every lane's arithmetic is the scalar one, operation for operation (so the poses are
+    /// bit-identical), with the lanes innermost so the compositions vectorise.
+    pub fn frames_lanes(&self, qs: &[Lanes], out: &mut Vec<[Lanes; 12]>) {
+        out.clear();
+        out.push(IDENTITY.map(|v| [v; LANES]));
+        for f in &self.frames {
+            let m = compose_lanes(&out[f.parent], &f.fixed.map(|v| [v; LANES]));
+            let mut motion = [[0.0; LANES]; 12];
+            for l in 0..LANES {
+                let one = f.motion(qs[f.dof][l]);
+                for (row, v) in motion.iter_mut().zip(one) {
+                    row[l] = v;
+                }
+            }
+            out.push(compose_lanes(&m, &motion));
+        }
+    }
+}
+
+/// States checked together by the batched kernels.
+pub(super) const LANES: usize = 4;
+
+/// One value per lane.
+pub(super) type Lanes = [f64; LANES];
+
+/// [`compose`] in every lane (same operations, lanes innermost).
+#[inline(always)]
+fn compose_lanes(a: &[Lanes; 12], b: &[Lanes; 12]) -> [Lanes; 12] {
+    let mut out = [[0.0; LANES]; 12];
+    for r in 0..3 {
+        for c in 0..3 {
+            for l in 0..LANES {
+                out[4 * r + c][l] =
+                    a[4 * r][l] * b[c][l] + a[4 * r + 1][l] * b[4 + c][l] + a[4 * r + 2][l] * b[8 + c][l];
+            }
+        }
+        for l in 0..LANES {
+            out[4 * r + 3][l] =
+                a[4 * r][l] * b[3][l] + a[4 * r + 1][l] * b[7][l] + a[4 * r + 2][l] * b[11][l] + a[4 * r + 3][l];
+        }
+    }
+    out
+}
+
+impl Frame {
+    /// The joint motion at driving value `q`.
+    #[inline(always)]
+    fn motion(&self, q: f64) -> Mat34 {
+        let v = self.scale * q + self.offset;
+        let [x, y, z] = self.axis;
+        if self.prismatic {
+            [1.0, 0.0, 0.0, x * v, 0.0, 1.0, 0.0, y * v, 0.0, 0.0, 1.0, z * v]
+        } else {
+            // Rodrigues: R = cI + s[u]× + (1 − c)uuᵀ.
+            let (s, c) = v.sin_cos();
+            let k = 1.0 - c;
+            [
+                c + k * x * x,
+                k * x * y - s * z,
+                k * x * z + s * y,
+                0.0,
+                k * x * y + s * z,
+                c + k * y * y,
+                k * y * z - s * x,
+                0.0,
+                k * x * z - s * y,
+                k * y * z + s * x,
+                c + k * z * z,
+                0.0,
+            ]
         }
     }
 }

@@ -11,6 +11,8 @@
 //! - [`cover`]: sphere covers of meshes with a guaranteed bound (every surface point covered).
 //! - [`SphereWorld`]: the links of a core [`Robot`](opengrasp_core::model::Robot) covered by spheres, among oriented boxes.
 //!   Closed-form distances, fast, conservative; used by the stand-in benchmark scenes and tests.
+//! - [`OneByOne`]: wraps any checker so batches and motions are checked one state at a time
+//!   (the reference of batched checks).
 //! - [`CountingChecker`]: wraps any checker and counts the calls (the benchmark uses it to
 //!   report collision checks per run).
 
@@ -89,11 +91,30 @@ pub trait StateValidityChecker {
 
     /// Discrete check of the motion `a → b` at `step`: true if `b` and the states at
     /// `n = ⌈|b − a| / step⌉` equal subdivisions are valid (exactly the verdict of
-    /// [`segment_valid_discrete`](crate::validate::segment_valid_discrete), which the default
-    /// calls: end state first, then coarse to fine). Checkers that test many states at once
-    /// override it; planners call it for every edge.
+    /// [`segment_valid_discrete`](crate::validate::segment_valid_discrete): end state first,
+    /// then coarse to fine). The default returns [`StateValidityChecker::check_motion`]'s
+    /// verdict; planners call it for every edge.
     fn is_motion_valid(&self, a: &[f64], b: &[f64], step: f64) -> bool {
-        crate::validate::segment_valid_discrete_with(self, a, b, step)
+        self.check_motion(a, b, step).0
+    }
+
+    /// The verdict of [`StateValidityChecker::is_motion_valid`] and the number of states it
+    /// needed: how many states the one-by-one check in that order tests before it stops (all
+    /// of them if the motion is valid). The default checks them one by one with
+    /// [`StateValidityChecker::is_valid`]; checkers that test several states at once override
+    /// this method (same verdict, same count) and keep `is_motion_valid`'s default.
+    fn check_motion(&self, a: &[f64], b: &[f64], step: f64) -> (bool, u64) {
+        let mut checked = 0;
+        let valid = crate::validate::segment_valid_discrete_by(
+            |q| {
+                checked += 1;
+                self.is_valid(q)
+            },
+            a,
+            b,
+            step,
+        );
+        (valid, checked)
     }
 
     /// Validity of `q` with respect to everything [`StateValidityChecker::link_distances`]
@@ -138,6 +159,9 @@ macro_rules! forward_checker {
             fn is_motion_valid(&self, a: &[f64], b: &[f64], step: f64) -> bool {
                 (**self).is_motion_valid(a, b, step)
             }
+            fn check_motion(&self, a: &[f64], b: &[f64], step: f64) -> (bool, u64) {
+                (**self).check_motion(a, b, step)
+            }
             fn residual_valid(&self, q: &[f64]) -> Option<bool> {
                 (**self).residual_valid(q)
             }
@@ -160,6 +184,20 @@ impl StateValidityChecker for AlwaysValid {
     }
 }
 
+/// Wraps a checker and forwards only [`StateValidityChecker::dim`] and
+/// [`StateValidityChecker::is_valid`], so batches and motions are checked one state at a time
+/// by the trait's defaults: the reference that batched checkers must match.
+pub struct OneByOne<'a>(pub &'a dyn StateValidityChecker);
+
+impl StateValidityChecker for OneByOne<'_> {
+    fn dim(&self) -> usize {
+        self.0.dim()
+    }
+    fn is_valid(&self, q: &[f64]) -> bool {
+        self.0.is_valid(q)
+    }
+}
+
 /// Wraps a checker and counts validity checks and distance queries.
 pub struct CountingChecker<'a> {
     inner: &'a dyn StateValidityChecker,
@@ -172,7 +210,8 @@ impl<'a> CountingChecker<'a> {
     pub fn new(inner: &'a dyn StateValidityChecker) -> Self {
         Self { inner, checks: Cell::new(0), distance_queries: Cell::new(0) }
     }
-    /// Number of [`StateValidityChecker::is_valid`] calls so far.
+    /// Number of states checked so far: [`StateValidityChecker::is_valid`] calls, states of
+    /// batches and of motion checks.
     pub fn checks(&self) -> u64 {
         self.checks.get()
     }
@@ -221,6 +260,11 @@ impl StateValidityChecker for CountingChecker<'_> {
         }
         r
     }
-    // `is_motion_valid` keeps the default, so every state it checks is counted through
-    // `is_valid`.
+    /// Counts the states the verdict needed (as many `is_valid` calls as the one-by-one
+    /// check would make), however the inner checker batches them.
+    fn check_motion(&self, a: &[f64], b: &[f64], step: f64) -> (bool, u64) {
+        let (valid, checked) = self.inner.check_motion(a, b, step);
+        self.checks.set(self.checks.get() + checked);
+        (valid, checked)
+    }
 }

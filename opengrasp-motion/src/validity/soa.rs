@@ -7,8 +7,12 @@ use std::cell::RefCell;
 
 use nalgebra::{Isometry3, Point3};
 
-use super::chain::Mat34;
+use super::chain::{Lanes, Mat34};
 use super::ObstacleShape;
+
+mod lanes;
+
+pub(super) use lanes::{and_not, any_lane, LaneCentres, Mask};
 
 /// An obstacle in the form the kernels use: world-to-local rotation (row-major), centre and
 /// the closed-form shape.
@@ -136,6 +140,13 @@ pub(super) struct Scratch {
     pub centres: Centres,
     pub coarse: Centres,
     pub q: Vec<f64>,
+    /// Buffers of the batched kernels: frame poses, fine and coarse centres, group values
+    /// per lane, and the order of a motion's states.
+    pub lane_frames: Vec<[Lanes; 12]>,
+    pub lane_centres: LaneCentres,
+    pub lane_coarse: LaneCentres,
+    pub lane_q: Vec<Lanes>,
+    pub order: Vec<usize>,
 }
 
 thread_local! {
@@ -311,6 +322,12 @@ impl SphereSoa {
         true
     }
 
+    /// True if links `a` and `b` ride on the same chain frame (their relative pose never
+    /// changes).
+    pub fn rigidly_attached(&self, a: usize, b: usize) -> bool {
+        self.frame[a] == self.frame[b]
+    }
+
     /// True if link `k` is fixed in the world (its spheres never move).
     pub fn is_static(&self, k: usize) -> bool {
         self.frame[k] == 0
@@ -350,10 +367,10 @@ impl SphereSoa {
                     continue;
                 }
                 let ((sa, ea), (sb, eb)) = (self.clusters[ja], self.clusters[jb]);
-                for i in sa..ea {
-                    let (x, y, z, r) = (c.x[i], c.y[i], c.z[i], self.r[i]);
-                    let (xs, ys, zs, rs) = (&c.x[sb..eb], &c.y[sb..eb], &c.z[sb..eb], &self.r[sb..eb]);
-                    let n = xs.len().min(ys.len()).min(zs.len()).min(rs.len());
+                let (xs, ys, zs, rs) = (&c.x[sb..eb], &c.y[sb..eb], &c.z[sb..eb], &self.r[sb..eb]);
+                let n = xs.len().min(ys.len()).min(zs.len()).min(rs.len());
+                let (ax, ay, az, ar) = (&c.x[sa..ea], &c.y[sa..ea], &c.z[sa..ea], &self.r[sa..ea]);
+                for (((&x, &y), &z), &r) in ax.iter().zip(ay).zip(az).zip(ar) {
                     let hit = any(n, |j| {
                         ((xs[j] - x).powi(2) + (ys[j] - y).powi(2) + (zs[j] - z).powi(2)).sqrt() - r - rs[j] <= 0.0
                     });

@@ -1,0 +1,55 @@
+//! RRT-Connect on the vendored MotionBenchMaker Panda problems, planned on the layered greedy
+//! sphere model: a fixed workload (every problem of the sets whose name contains FILTER, seeds
+//! `0..SEEDS`, time limit LIMIT s, default 10; `lanes` as a fourth argument checks with
+//! `SphereWorld::with_batched_checks` (anything else: one state at a time), a fifth sets
+//! `RrtConnectOptions::dynamic_domain`) for instruction counts (`perf stat`, `valgrind --tool=callgrind`), which stay
+//! comparable on a loaded machine where timings do not. Prints the solved runs, the states
+//! checked and the planning time.
+//!
+//! ```sh
+//! cargo run --release -p opengrasp-motion --example mbm_plan -- cage 20 10 [lanes|single [RADIUS]]
+//! ```
+
+use std::time::{Duration, Instant};
+
+use opengrasp_motion::planners::{RrtConnect, RrtConnectOptions};
+use opengrasp_motion::problem_set::{self, LoadedProblemSet, PlanningModel};
+use opengrasp_motion::validity::cover::GreedyCoverOptions;
+use opengrasp_motion::validity::CountingChecker;
+use opengrasp_motion::MotionPlanner;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/mbm/panda/problems");
+    let mut args = std::env::args().skip(1);
+    let filter = args.next().unwrap_or_default();
+    let seeds: u64 = args.next().map(|s| s.parse()).transpose()?.unwrap_or(10);
+    let limit = Duration::from_secs_f64(args.next().map(|s| s.parse()).transpose()?.unwrap_or(10.0));
+    let sets: Vec<LoadedProblemSet> =
+        problem_set::load(dir)?.iter().map(LoadedProblemSet::new).collect::<Result<_, _>>()?;
+    let lanes = args.next().is_some_and(|a| a == "lanes");
+    let dynamic_domain: Option<f64> = args.next().map(|s| s.parse()).transpose()?;
+    let options = RrtConnectOptions { dynamic_domain, ..RrtConnectOptions::default() };
+    let layered = sets[0].layered_sphere_model(GreedyCoverOptions::default())?.with_batched_checks(lanes);
+    let model = PlanningModel::Spheres(std::sync::Arc::new(layered));
+    for set in sets.iter().filter(|s| s.name().contains(&filter)) {
+        let instances: Vec<_> = (0..set.len()).map(|i| set.instance_with(i, &model)).collect::<Result<_, _>>()?;
+        let (mut solved, mut checks, mut time) = (0, 0, Duration::ZERO);
+        for seed in 0..seeds {
+            for instance in &instances {
+                let counter = CountingChecker::new(instance.planner_checker());
+                let problem = instance.problem(&counter, limit, seed, 0.02);
+                let t = Instant::now();
+                solved += usize::from(RrtConnect::new(options).plan(&problem).is_ok());
+                time += t.elapsed();
+                checks += counter.checks();
+            }
+        }
+        let runs = seeds as usize * instances.len();
+        println!(
+            "{}: {solved}/{runs} solved, {checks} states checked, {:.3} ms per run",
+            set.name(),
+            time.as_secs_f64() * 1e3 / runs as f64
+        );
+    }
+    Ok(())
+}
