@@ -82,6 +82,9 @@ const CERTIFIER_STEPS: usize = 100;
 /// segments that cross an obstacle.
 const PROBE_STATES: usize = 4;
 
+/// States looked at from where the certifier got stuck, a planning step apart.
+const STUCK_PROBES: usize = 8;
+
 /// Extra distance (m) the certifier keeps on top of the continuous validator's tolerance, for
 /// the rounding of the exact distance queries.
 const CERTIFIER_SLACK: f64 = 1e-6;
@@ -118,8 +121,9 @@ impl<'a> SegmentCheck<'a> {
     ///
     /// - `Some(false)` if one of the first [`PROBE_STATES`] states of the planning-step
     ///   check is invalid (that check would reject it), or, when the continuous validator runs,
-    ///   if the state where the certifier got stuck collides with the environment and not with
-    ///   the robot itself (conservative advancement cannot pass an environment collision);
+    ///   if the state where the certifier got stuck or one of the next [`STUCK_PROBES`] − 1
+    ///   states a planning step apart collides with the environment and not with the robot
+    ///   itself (conservative advancement cannot pass an environment collision);
     /// - `Some(true)` if the certifier proves `a → b` free with a margin that makes every
     ///   exact validator accept it: every state is collision-free, so both discrete checks
     ///   (and the strict check's residual) accept; every link the group moves stays at least
@@ -153,9 +157,15 @@ impl<'a> SegmentCheck<'a> {
         match certifier.certify(a, b, bound, margin, CERTIFIER_STEPS) {
             Certificate::Free => Some(true),
             Certificate::Unknown { near: Some(t) } if self.options.certify => {
+                // The collision, if any, is at or just after `t`: look at `t` and the next
+                // few states a planning step apart.
+                let len = distance(a, b);
+                let dt = if len > 0.0 { self.options.step / len } else { 1.0 };
                 let mut q = Vec::with_capacity(a.len());
-                interpolate_into(a, b, t, &mut q);
-                let environment_hit = self.checker.residual_valid(&q) == Some(true) && !self.checker.is_valid(&q);
+                let environment_hit = (0..STUCK_PROBES).map(|k| t + k as f64 * dt).take_while(|&s| s <= 1.0).any(|s| {
+                    interpolate_into(a, b, s, &mut q);
+                    self.checker.residual_valid(&q) == Some(true) && !self.checker.is_valid(&q)
+                });
                 environment_hit.then_some(false)
             }
             Certificate::Unknown { .. } => None,
