@@ -9,7 +9,7 @@
 //! [`repair_with`] and [`shortcut_with`] take a [`SegmentCertifier`] as well: a segment it
 //! proves free with a margin (on a conservative model, see [`crate::certify`]) is accepted
 //! without the exact checks, and only when it cannot prove it do they run. The proof implies
-//! the exact verdict (see [`SegmentCheck::ok`]), so both give exactly the paths of [`repair`]
+//! the exact verdict (see [`crate::certify`]), so both give exactly the paths of [`repair`]
 //! and [`shortcut`], faster.
 
 use rand::{Rng, SeedableRng};
