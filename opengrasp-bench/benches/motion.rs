@@ -21,7 +21,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use opengrasp_bench::clean_table::{clean_the_table, CleanTheTableOptions};
 use opengrasp_bench::problem_sets::load_problem_sets;
 use opengrasp_bench::scenes::{armar_standard_scene, standard_scene, CheckerKind};
-use opengrasp_motion::benchmark::{postprocessing_options, BenchmarkOptions, BenchmarkScene};
+use opengrasp_motion::benchmark::{postprocessing_options, BenchmarkOptions, BenchmarkScene, SceneInstance};
 use opengrasp_motion::planners::{NeighborStructure, RrtConnect};
 use opengrasp_motion::problem_set::PlanningModel;
 use opengrasp_motion::smoothing::{repair, repair_with, shortcut, shortcut_with, ShortcutOptions};
@@ -29,6 +29,17 @@ use opengrasp_motion::validity::cover::GreedyCoverOptions;
 use opengrasp_motion::MotionPlanner;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+
+/// RRT-Connect paths of seeds `0..n` on `instance`.
+fn rrt_connect_paths(instance: &SceneInstance, n: u64) -> Vec<Vec<Vec<f64>>> {
+    let mut planner = RrtConnect::default();
+    (0..n)
+        .map(|seed| {
+            let problem = instance.problem(&*instance.checker, Duration::from_secs(10), seed, 0.02);
+            planner.plan(&problem).expect("solved").path
+        })
+        .collect()
+}
 
 fn bench_scene(c: &mut Criterion, id: &str, scene: BenchmarkScene) {
     let instance = (scene.generate)(0).expect("scene instance");
@@ -47,15 +58,9 @@ fn bench_scene(c: &mut Criterion, id: &str, scene: BenchmarkScene) {
             })
         });
     }
-    let mut planner = RrtConnect::default();
     // Post-processing as the harness runs it (repair, then shortcut with every validator's
     // check), on the paths of 10 seeds, cycling.
-    let paths: Vec<Vec<Vec<f64>>> = (0..10)
-        .map(|seed| {
-            let problem = instance.problem(&*instance.checker, Duration::from_secs(10), seed, 0.02);
-            planner.plan(&problem).expect("solved").path
-        })
-        .collect();
+    let paths = rrt_connect_paths(&instance, 10);
     let limits = instance.group.limits(&instance.robot);
     let mut k = 0usize;
     c.bench_function(&format!("{id}/postprocess"), |b| {
@@ -129,13 +134,7 @@ fn mbm_panda(c: &mut Criterion) {
 fn postprocess_rows(c: &mut Criterion) {
     let instance = (armar_standard_scene().generate)(0).expect("scene instance");
     let options = BenchmarkOptions::default();
-    let mut planner = RrtConnect::default();
-    let paths: Vec<Vec<Vec<f64>>> = (0..10)
-        .map(|seed| {
-            let problem = instance.problem(&*instance.checker, Duration::from_secs(10), seed, 0.02);
-            planner.plan(&problem).expect("solved").path
-        })
-        .collect();
+    let paths = rrt_connect_paths(&instance, 10);
     let limits = instance.group.limits(&instance.robot);
     for (row, certifier) in [("scene1", instance.certifier.as_deref()), ("scene1_exact", None)] {
         let mut k = 0usize;

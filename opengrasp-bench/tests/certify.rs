@@ -7,8 +7,8 @@ use std::time::Duration;
 use nalgebra::Isometry3;
 use opengrasp_bench::scenes::{armar_standard_scene, certifier_for};
 use opengrasp_core::collision::CollisionWorld;
-use opengrasp_core::model::{Geometry, Shape};
-use opengrasp_core::scene::{SceneObject, StaticBody};
+use opengrasp_core::model::{Geometry, JointGroup, Robot, Shape};
+use opengrasp_core::scene::{RobotId, Scene, SceneObject, StaticBody};
 use opengrasp_motion::benchmark::{postprocessing_options, BenchmarkOptions, SceneInstance};
 use opengrasp_motion::certify::{Certificate, SegmentCertifier, SphereCertifier};
 use opengrasp_motion::planners::RrtConnect;
@@ -18,6 +18,14 @@ use opengrasp_motion::validity::{CollisionChecker, MotionBound, StateValidityChe
 use opengrasp_motion::{MotionError, MotionPlanner};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+
+/// The stock kitchen, its humanoid, `group` and the start configuration.
+fn kitchen(group: &str) -> (Scene, RobotId, Arc<Robot>, JointGroup, Vec<f64>) {
+    let kitchen = opengrasp_assets::scenes::kitchen().unwrap();
+    let robot = kitchen.scene.robot(kitchen.robot).unwrap().robot.clone();
+    let group = robot.group(group).unwrap().clone();
+    (kitchen.scene, kitchen.robot, robot, group, kitchen.start_configuration)
+}
 
 /// Random segments of length up to `reach` from random valid states; returns (certified,
 /// tried). Every certified segment must pass the exact discrete, strict and continuous
@@ -73,12 +81,7 @@ fn certified_kitchen_segments_pass_the_exact_validators() {
 /// certified segments pass the exact validators with the carried object's motion bound.
 #[test]
 fn certified_segments_with_a_carried_object_pass_the_exact_validators() {
-    let kitchen = opengrasp_assets::scenes::kitchen().unwrap();
-    let mut scene = kitchen.scene.clone();
-    let rid = kitchen.robot;
-    let robot = scene.robot(rid).unwrap().robot.clone();
-    let group = robot.group("base_hip_right_arm").unwrap().clone();
-    let mut q = kitchen.start_configuration.clone();
+    let (mut scene, rid, robot, group, mut q) = kitchen("base_hip_right_arm");
     let elbow = robot.dof_index("right_elbow").unwrap();
     q[elbow] = 1.2;
     scene.set_robot_configuration(rid, &q).unwrap();
@@ -136,12 +139,7 @@ fn certified_postprocessing_gives_the_exact_paths() {
 /// Scenes the model does not cover and bad configurations are typed errors.
 #[test]
 fn unsupported_scenes_are_typed_errors() {
-    let kitchen = opengrasp_assets::scenes::kitchen().unwrap();
-    let mut scene = kitchen.scene.clone();
-    let rid = kitchen.robot;
-    let robot = scene.robot(rid).unwrap().robot.clone();
-    let group = robot.group("hip_right_arm").unwrap().clone();
-    let q = kitchen.start_configuration.clone();
+    let (mut scene, rid, robot, group, q) = kitchen("hip_right_arm");
     let world = CollisionWorld::new(&scene).unwrap();
     let bound = MotionBound::from_robot(&robot, &group).unwrap();
     let short = SphereCertifier::new(&scene, rid, &group, &q[..3], &bound, &world);
