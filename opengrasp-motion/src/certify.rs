@@ -38,11 +38,13 @@ use crate::validity::MotionBound;
 
 /// Proves motions collision-free on a conservative model (see the [module docs](self)).
 pub trait SegmentCertifier {
-    /// True only if, along the whole straight motion `a → b` (group values), every link of
-    /// `bound` that the group moves, with the objects it carries, stays at least `margin` away
-    /// from every obstacle, no non-allowed pair of the robot's own parts (carried objects
-    /// included) comes closer than `margin`, and the links the group does not move are not
-    /// in self-collision. False means "not proven", not "in collision".
+    /// [`Certificate::Free`] only if, along the whole straight motion `a → b` (group values),
+    /// every link of `bound` that the group moves, with the objects it carries, stays at least
+    /// `margin` away from every obstacle, and no non-allowed pair of the robot's own parts
+    /// (carried objects included) that the group's joints move relative to each other comes
+    /// closer than `margin`. What no group joint moves (links the group does not move, and
+    /// pairs that move rigidly together) never changes, so it is left to the caller to check
+    /// once, at any state.
     ///
     /// `bound` is the motion bound of the exact continuous validator. A certifier may give up
     /// after `max_steps` advancement steps.
@@ -298,9 +300,6 @@ pub struct SphereCertifier {
     /// Bounding ball of each obstacle.
     obstacle_balls: Vec<(Vector3<f64>, f64)>,
     bound_links: Vec<LinkId>,
-    /// Whether the kept pairs that no group joint moves apart are apart (they always are, or
-    /// never).
-    fixed_clear: bool,
 }
 
 impl SphereCertifier {
@@ -370,13 +369,12 @@ impl SphereCertifier {
             .collect();
         let obstacles = obstacles.iter().map(|p| Placed::new(p, &Isometry3::identity())).collect();
         // Pairs that no group joint moves apart (the joints on their chains are the same)
-        // keep their distance: decide them once, at `q_full`.
+        // keep their distance: they are the caller's (see `SegmentCertifier::certify`).
         let apart = |i: usize, j: usize| {
             let (a, b) = (models[i].slot, models[j].slot);
             (0..bound.dim()).any(|g| (bound.radius(a, g) > 0.0) != (bound.radius(b, g) > 0.0))
         };
         let mut pairs = Vec::new();
-        let mut fixed_pairs = Vec::new();
         for i in 0..models.len() {
             for j in i + 1..models.len() {
                 let (a, b) = (&models[i], &models[j]);
@@ -387,12 +385,10 @@ impl SphereCertifier {
                 };
                 if kept && apart(i, j) {
                     pairs.push((i, j));
-                } else if kept {
-                    fixed_pairs.push((i, j));
                 }
             }
         }
-        let mut certifier = Self {
+        Ok(Self {
             limits: group.limits(&robot),
             dofs: group.dofs().to_vec(),
             q_full: q_full.to_vec(),
@@ -403,12 +399,7 @@ impl SphereCertifier {
             obstacles,
             obstacle_balls,
             bound_links: bound.links().to_vec(),
-            fixed_clear: true,
-        };
-        let mut scratch = Scratch::default();
-        certifier.place(&group.extract(q_full), &mut scratch);
-        certifier.fixed_clear = fixed_pairs.iter().all(|&(i, j)| scratch.pair_distance(i, j, f64::INFINITY) > 0.0);
-        Ok(certifier)
+        })
     }
 
     /// Number of robot primitives (balls and boxes, carried objects included).
@@ -559,8 +550,7 @@ impl SegmentCertifier for SphereCertifier {
         let unknown = Certificate::Unknown { near: None };
         let n = self.dofs.len();
         let within = |q: &[f64]| q.len() == n && q.iter().zip(&self.limits).all(|(v, (lo, hi))| *v >= *lo && *v <= *hi);
-        if !self.fixed_clear
-            || bound.links() != self.bound_links.as_slice()
+        if bound.links() != self.bound_links.as_slice()
             || bound.dim() != n
             || !within(a)
             || !within(b)

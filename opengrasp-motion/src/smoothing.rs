@@ -94,8 +94,9 @@ struct SegmentCheck<'a> {
     checker: &'a dyn StateValidityChecker,
     certifier: Option<&'a dyn SegmentCertifier>,
     /// Whether the links the group does not move are at least the continuous validator's
-    /// tolerance from the obstacles (`None`: not yet known; they never move, so one exact
-    /// query decides it for every segment).
+    /// tolerance from the obstacles and the robot's parts that move rigidly together are not
+    /// in self-collision (`None`: not yet known; neither changes, so one exact query decides
+    /// it for every segment).
     static_clear: std::cell::Cell<Option<bool>>,
     options: ShortcutOptions,
     ccd: CcdOptions,
@@ -128,7 +129,8 @@ impl<'a> SegmentCheck<'a> {
     ///   exact validator accept it: every state is collision-free, so both discrete checks
     ///   (and the strict check's residual) accept; every link the group moves stays at least
     ///   `tolerance + slack` from the obstacles and the links it does not move keep their
-    ///   distance, checked once against the tolerance, so the continuous validator never sees
+    ///   distance, checked once against the tolerance (as are, by one exact state check, the
+    ///   self pairs no group joint moves apart), so the continuous validator never sees
     ///   a distance under its tolerance; and its steps are at least `tolerance / max_i B_i`
     ///   long, so it finishes within its query budget (checked here) and accepts.
     fn decided(&self, a: &[f64], b: &[f64]) -> Option<bool> {
@@ -144,10 +146,13 @@ impl<'a> SegmentCheck<'a> {
         if self.options.certify && fastest / margin + 2.0 > self.ccd.max_queries as f64 {
             return None;
         }
+        // What no group joint moves is the same at every state: decide it once, at the first
+        // segment's start (a valid state clears its fixed self pairs).
         let static_clear = self.static_clear.get().unwrap_or_else(|| {
             let mut d = Vec::new();
-            let clear = !self.checker.link_distances(a, &mut d)
-                || d.iter().enumerate().all(|(i, &x)| bound.is_moving(i) || x >= tolerance);
+            let clear = self.checker.is_valid(a)
+                && (!self.checker.link_distances(a, &mut d)
+                    || d.iter().enumerate().all(|(i, &x)| bound.is_moving(i) || x >= tolerance));
             self.static_clear.set(Some(clear));
             clear
         });
