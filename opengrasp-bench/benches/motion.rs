@@ -6,7 +6,8 @@
 //! checker, and on its guaranteed greedy sphere cover: `rrt_connect_spheres`,
 //! `state_check_spheres`, `state_check_spheres_batch64`, `motion_check_spheres`, each also
 //! `_lanes` with `SphereWorld::with_batched_checks` and `_one_by_one` through the trait's
-//! one-state defaults).
+//! one-state defaults); and certified post-processing (`postprocess/scene1`,
+//! `postprocess/scene1_exact`, `postprocess/clean_table_episode`).
 //!
 //! ```sh
 //! cargo bench -p opengrasp-bench --bench motion -- --warm-up-time 1 --measurement-time 3
@@ -19,17 +20,29 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
+use opengrasp_bench::clean_table::{clean_the_table, CleanTheTableOptions};
 use opengrasp_bench::problem_sets::load_problem_sets;
 use opengrasp_bench::scenes::{armar_standard_scene, standard_scene, CheckerKind};
-use opengrasp_motion::benchmark::BenchmarkScene;
+use opengrasp_motion::benchmark::{postprocessing_options, BenchmarkOptions, BenchmarkScene, SceneInstance};
 use opengrasp_motion::planners::{NeighborStructure, RrtConnect};
 use opengrasp_motion::problem_set::PlanningModel;
-use opengrasp_motion::smoothing::{repair, shortcut, ShortcutOptions};
+use opengrasp_motion::smoothing::{repair, repair_with, shortcut, shortcut_with, ShortcutOptions};
 use opengrasp_motion::validity::cover::GreedyCoverOptions;
 use opengrasp_motion::validity::{OneByOne, StateValidityChecker};
 use opengrasp_motion::MotionPlanner;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+
+/// RRT-Connect paths of seeds `0..n` on `instance`.
+fn rrt_connect_paths(instance: &SceneInstance, n: u64) -> Vec<Vec<Vec<f64>>> {
+    let mut planner = RrtConnect::default();
+    (0..n)
+        .map(|seed| {
+            let problem = instance.problem(&*instance.checker, Duration::from_secs(10), seed, 0.02);
+            planner.plan(&problem).expect("solved").path
+        })
+        .collect()
+}
 
 fn bench_scene(c: &mut Criterion, id: &str, scene: BenchmarkScene) {
     let instance = (scene.generate)(0).expect("scene instance");
@@ -48,15 +61,9 @@ fn bench_scene(c: &mut Criterion, id: &str, scene: BenchmarkScene) {
             })
         });
     }
-    let mut planner = RrtConnect::default();
     // Post-processing as the harness runs it (repair, then shortcut with every validator's
     // check), on the paths of 10 seeds, cycling.
-    let paths: Vec<Vec<Vec<f64>>> = (0..10)
-        .map(|seed| {
-            let problem = instance.problem(&*instance.checker, Duration::from_secs(10), seed, 0.02);
-            planner.plan(&problem).expect("solved").path
-        })
-        .collect();
+    let paths = rrt_connect_paths(&instance, 10);
     let limits = instance.group.limits(&instance.robot);
     let mut k = 0usize;
     c.bench_function(&format!("{id}/postprocess"), |b| {
@@ -150,7 +157,40 @@ fn mbm_panda(c: &mut Criterion) {
     }
 }
 
+/// Post-processing (repair + shortcut as `run_once` runs it, with the benchmark's options) of
+/// the RRT-Connect paths of 10 seeds on kitchen scene 1, cycling: `postprocess/scene1` with
+/// the scene's certifier (the harness's way), `postprocess/scene1_exact` without (the same
+/// paths, exact checks only); and one whole Clean the Table episode (RRT-Connect, seed 0:
+/// planning, post-processing and grading of its 8 queries), `postprocess/clean_table_episode`.
+fn postprocess_rows(c: &mut Criterion) {
+    let instance = (armar_standard_scene().generate)(0).expect("scene instance");
+    let options = BenchmarkOptions::default();
+    let paths = rrt_connect_paths(&instance, 10);
+    let limits = instance.group.limits(&instance.robot);
+    for (row, certifier) in [("scene1", instance.certifier.as_deref()), ("scene1_exact", None)] {
+        let mut k = 0usize;
+        c.bench_function(&format!("postprocess/{row}"), |b| {
+            b.iter(|| {
+                k = (k + 1) % paths.len();
+                let so = postprocessing_options(&options, k as u64);
+                let (repaired, _) = repair_with(&*instance.checker, certifier, &paths[k], &limits, &so);
+                shortcut_with(&*instance.checker, certifier, &repaired, &so)
+            })
+        });
+    }
+    let mut group = c.benchmark_group("postprocess");
+    group.sample_size(10);
+    group.bench_function("clean_table_episode", |b| {
+        b.iter(|| {
+            let mut planner = RrtConnect::default();
+            clean_the_table(&mut planner, &CleanTheTableOptions::default()).expect("episode").totals.cleaned
+        })
+    });
+    group.finish();
+}
+
 fn motion(c: &mut Criterion) {
+    postprocess_rows(c);
     bench_scene(c, "armar_kitchen", armar_standard_scene());
     bench_scene(c, "seven_dof_cupboard", standard_scene(CheckerKind::Exact));
     mbm_panda(c);

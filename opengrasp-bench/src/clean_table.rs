@@ -22,6 +22,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
+use crate::scenes::certifier_for;
 use opengrasp_motion::benchmark::{run_once, timed_setup, BenchmarkOptions, RunRecord, RunStatus, SceneInstance};
 use opengrasp_motion::problem::{Goal, MotionPlanner, PoseGoal};
 use opengrasp_motion::validity::{CollisionChecker, MotionBound};
@@ -199,6 +200,7 @@ pub fn clean_the_table(planner: &mut dyn MotionPlanner, options: &CleanTheTableO
         if let Some(b) = bound {
             checker = checker.with_bound(b);
         }
+        let certifier = certifier_for(scene, rid, &group, q, &checker)?;
         let instance = SceneInstance {
             robot: robot.clone(),
             group: group.clone(),
@@ -208,6 +210,7 @@ pub fn clean_the_table(planner: &mut dyn MotionPlanner, options: &CleanTheTableO
             goal,
             checker: Box::new(checker),
             planning_checker: None,
+            certifier: Some(Box::new(certifier)),
         };
         let seed = options.seed.wrapping_add(k as u64);
         let setup = timed_setup(planner, &instance, seed, &options.benchmark).unwrap_or(0.0);

@@ -33,6 +33,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use opengrasp_motion::benchmark::{BenchmarkScene, SceneInstance};
+use opengrasp_motion::certify::SphereCertifier;
 use opengrasp_motion::problem::{Goal, PoseGoal};
 use opengrasp_motion::validity::{CollisionChecker, ObstacleBox, SphereWorld, StateValidityChecker};
 use opengrasp_motion::Result;
@@ -116,6 +117,19 @@ pub fn armar_kitchen_checker_with(
     group: &str,
     edit: impl FnOnce(&mut Scene) -> Result<()>,
 ) -> Result<(Arc<Robot>, JointGroup, Vec<f64>, CollisionChecker)> {
+    kitchen_parts(group, edit).map(|k| (k.robot, k.group, k.q_full, k.checker))
+}
+
+/// What a kitchen instance is made of.
+struct KitchenParts {
+    robot: Arc<Robot>,
+    group: JointGroup,
+    q_full: Vec<f64>,
+    checker: CollisionChecker,
+    certifier: SphereCertifier,
+}
+
+fn kitchen_parts(group: &str, edit: impl FnOnce(&mut Scene) -> Result<()>) -> Result<KitchenParts> {
     let kitchen = opengrasp_assets::scenes::kitchen().map_err(|e| opengrasp_motion::MotionError::Scene(Box::new(e)))?;
     let mut scene = kitchen.scene.clone();
     edit(&mut scene)?;
@@ -128,7 +142,27 @@ pub fn armar_kitchen_checker_with(
     let world = Arc::new(CollisionWorld::new(&scene)?);
     let group = robot.group(group)?.clone();
     let checker = CollisionChecker::new(world, kitchen.robot, robot.clone(), group.clone(), q_full.clone())?;
-    Ok((robot, group, q_full, checker))
+    let certifier = certifier_for(&scene, kitchen.robot, &group, &q_full, &checker)?;
+    Ok(KitchenParts { robot, group, q_full, checker, certifier })
+}
+
+/// The post-processing certifier of `checker`'s scene (built from `scene`, which must be the
+/// scene of the checker's world): the robot's and the obstacles' conservative model with the
+/// checker's motion bound and allowed pairs.
+///
+/// # Errors
+/// As [`SphereCertifier::new`].
+pub fn certifier_for(
+    scene: &Scene,
+    robot: opengrasp_core::scene::RobotId,
+    group: &JointGroup,
+    q_full: &[f64],
+    checker: &CollisionChecker,
+) -> Result<SphereCertifier> {
+    let bound = checker
+        .motion_bound()
+        .ok_or(opengrasp_motion::MotionError::InvalidParameter { name: "checker", reason: "no motion bound".into() })?;
+    SphereCertifier::new(scene, robot, group, q_full, bound, checker.world())
 }
 
 /// Scene 1: the ARMAR-III-like humanoid in the kitchen, hip yaw + right arm, fixed start
@@ -138,7 +172,7 @@ pub fn armar_standard_scene() -> BenchmarkScene {
         name: "standard (ARMAR-III kitchen)".into(),
         shared_environment: true,
         generate: Box::new(|_seed| {
-            let (robot, group, q_full, checker) = armar_kitchen_checker("hip_right_arm")?;
+            let KitchenParts { robot, group, q_full, checker, certifier } = kitchen_parts("hip_right_arm", |_| Ok(()))?;
             let tip = robot.link_id("right_hand_palm")?;
             let goal = armar_standard_goal(&robot, &group, &q_full, &checker)?;
             Ok(SceneInstance {
@@ -150,6 +184,7 @@ pub fn armar_standard_scene() -> BenchmarkScene {
                 goal: Goal::Configuration(goal),
                 checker: Box::new(checker),
                 planning_checker: None,
+                certifier: Some(Box::new(certifier)),
             })
         }),
     }
@@ -204,7 +239,7 @@ pub const MAX_PLACEMENTS: usize = 20;
 fn armar_ik_instance(x: f64, y: f64, yaw: f64) -> Result<SceneInstance> {
     let z = 0.75 + 0.03;
     let pose = Isometry3::from_parts(Translation3::new(x, y, z), UnitQuaternion::from_euler_angles(0.0, 0.0, yaw));
-    let (robot, group, q_full, checker) = armar_kitchen_checker_with("hip_right_arm", |scene| {
+    let KitchenParts { robot, group, q_full, checker, certifier } = kitchen_parts("hip_right_arm", |scene| {
         let shape = Shape::at_origin(Geometry::cuboid(0.06, 0.06, 0.06));
         scene.add_object(SceneObject::new("target_box", pose, vec![shape], 0.2))?;
         Ok(())
@@ -222,6 +257,7 @@ fn armar_ik_instance(x: f64, y: f64, yaw: f64) -> Result<SceneInstance> {
         goal,
         checker: Box::new(checker),
         planning_checker: None,
+        certifier: Some(Box::new(certifier)),
     })
 }
 
@@ -289,6 +325,7 @@ fn instance(kind: CheckerKind, boxes: Vec<ObstacleBox>, start: Vec<f64>, goal: G
         goal,
         checker,
         planning_checker: None,
+        certifier: None,
     })
 }
 

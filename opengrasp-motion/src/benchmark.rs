@@ -17,11 +17,12 @@ use std::time::{Duration, Instant};
 use opengrasp_core::model::{JointGroup, LinkId, Robot};
 use serde::{Deserialize, Serialize};
 
+use crate::certify::SegmentCertifier;
 use crate::error::{MotionError, Result};
 use crate::metrics::{path_metrics, PathMetrics, Stats};
 use crate::problem::{Goal, MotionPlanner, PlanningProblem, SetupContext};
 use crate::protocol::Protocol;
-use crate::smoothing::{repair, shortcut, ShortcutOptions};
+use crate::smoothing::{repair_with, shortcut_with, ShortcutOptions};
 use crate::validate::{distance, validate_path, PathValidity, ValidationOptions};
 use crate::validity::{CountingChecker, StateValidityChecker};
 
@@ -46,6 +47,10 @@ pub struct SceneInstance {
     /// model of the robot; `None` (the usual case): the planner uses `checker`. Planned paths
     /// are still graded by `checker`.
     pub planning_checker: Option<Box<dyn StateValidityChecker>>,
+    /// Proves post-processing's shortcuts free on a conservative model so that the exact
+    /// checks run only where it cannot ([`crate::smoothing::shortcut_with`]); the
+    /// post-processed paths are the same with or without it. `None`: exact checks only.
+    pub certifier: Option<Box<dyn SegmentCertifier>>,
 }
 
 impl SceneInstance {
@@ -517,8 +522,9 @@ pub fn run_once(
     let shortcut_options = postprocessing_options(options, seed);
     let limits = instance.group.limits(&instance.robot);
     let t1 = Instant::now();
-    let (repaired, repair_stats) = repair(&counter, &path, &limits, &shortcut_options);
-    let (smoothed, stats) = shortcut(&counter, &repaired, &shortcut_options);
+    let certifier = instance.certifier.as_deref();
+    let (repaired, repair_stats) = repair_with(&counter, certifier, &path, &limits, &shortcut_options);
+    let (smoothed, stats) = shortcut_with(&counter, certifier, &repaired, &shortcut_options);
     record.postprocessing_time = Some(t1.elapsed().as_secs_f64());
     record.postprocessing_checks = counter.checks();
     record.shortcuts = Some(stats.accepted);

@@ -79,6 +79,7 @@
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");
 
 pub mod benchmark;
+pub mod certify;
 pub mod error;
 pub mod metrics;
 pub mod nearest;

@@ -5,13 +5,21 @@
 //! discrete check and (with [`ShortcutOptions::certify`]) the continuous check. So a
 //! post-processed path is never less valid than the planned one, and every repaired or
 //! shortcut segment passes every validator.
+//!
+//! [`repair_with`] and [`shortcut_with`] take a [`SegmentCertifier`] as well: a segment it
+//! proves free with a margin (on a conservative model, see [`crate::certify`]) is accepted
+//! without the exact checks, and only when it cannot prove it do they run. The proof implies
+//! the exact verdict (see [`crate::certify`]), so both give exactly the paths of [`repair`]
+//! and [`shortcut`], faster.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
+use crate::certify::{Certificate, SegmentCertifier};
 use crate::validate::{
-    distance, segment_valid_continuous, segment_valid_discrete, segment_valid_discrete_by, CcdOptions, DEFAULT_STEP,
+    distance, interpolate_into, segment_probe, segment_valid_continuous, segment_valid_discrete,
+    segment_valid_discrete_by, CcdOptions, DEFAULT_STEP,
 };
 use crate::validity::StateValidityChecker;
 
@@ -66,15 +74,40 @@ pub struct ShortcutStats {
     pub unrepaired: usize,
 }
 
+/// Advancement steps a [`SegmentCertifier`] may take per segment before the exact checks run.
+const CERTIFIER_STEPS: usize = 100;
+
+/// States of the exact planning-step check tried before the certifier (the first ones of its
+/// coarse-to-fine order: the end state, the middle, the quarters): cheap rejections of
+/// segments that cross an obstacle.
+const PROBE_STATES: usize = 4;
+
+/// States looked at from where the certifier got stuck, a planning step apart.
+const STUCK_PROBES: usize = 8;
+
+/// Extra distance (m) the certifier keeps on top of the continuous validator's tolerance, for
+/// the rounding of the exact distance queries.
+const CERTIFIER_SLACK: f64 = 1e-6;
+
 /// The segment check shared by [`repair`], [`shortcut`] and the final validators.
 struct SegmentCheck<'a> {
     checker: &'a dyn StateValidityChecker,
+    certifier: Option<&'a dyn SegmentCertifier>,
+    /// Whether the links the group does not move are at least the continuous validator's
+    /// tolerance from the obstacles and the robot's parts that move rigidly together are not
+    /// in self-collision (`None`: not yet known; neither changes, so one exact query decides
+    /// it for every segment).
+    static_clear: std::cell::Cell<Option<bool>>,
     options: ShortcutOptions,
     ccd: CcdOptions,
 }
 
 impl<'a> SegmentCheck<'a> {
-    fn new(checker: &'a dyn StateValidityChecker, options: &ShortcutOptions) -> Self {
+    fn new(
+        checker: &'a dyn StateValidityChecker,
+        certifier: Option<&'a dyn SegmentCertifier>,
+        options: &ShortcutOptions,
+    ) -> Self {
         // The strict discrete check already covers self-collision at the continuous
         // validator's step or finer: do not repeat it inside the continuous check.
         let ccd = if options.step <= options.ccd.self_collision_step {
@@ -82,7 +115,66 @@ impl<'a> SegmentCheck<'a> {
         } else {
             options.ccd
         };
-        Self { checker, options: *options, ccd }
+        Self { checker, certifier, static_clear: std::cell::Cell::new(None), options: *options, ccd }
+    }
+
+    /// The verdict of [`SegmentCheck::ok`] when the certifier decides it, `None` otherwise:
+    ///
+    /// - `Some(false)` if one of the first [`PROBE_STATES`] states of the planning-step
+    ///   check is invalid (that check would reject it), or, when the continuous validator runs,
+    ///   if the state where the certifier got stuck or one of the next [`STUCK_PROBES`] − 1
+    ///   states a planning step apart collides with the environment and not with the robot
+    ///   itself (conservative advancement cannot pass an environment collision);
+    /// - `Some(true)` if the certifier proves `a → b` free with a margin that makes every
+    ///   exact validator accept it: every state is collision-free, so both discrete checks
+    ///   (and the strict check's residual) accept; every link the group moves stays at least
+    ///   `tolerance + slack` from the obstacles and the links it does not move keep their
+    ///   distance, checked once against the tolerance (as are, by one exact state check, the
+    ///   self pairs no group joint moves apart), so the continuous validator never sees
+    ///   a distance under its tolerance; and its steps are at least `tolerance / max_i B_i`
+    ///   long, so it finishes within its query budget (checked here) and accepts.
+    fn decided(&self, a: &[f64], b: &[f64]) -> Option<bool> {
+        let certifier = self.certifier?;
+        let bound = self.checker.motion_bound()?;
+        if !segment_probe(|q| self.checker.is_valid(q), a, b, self.options.planning_step, PROBE_STATES) {
+            return Some(false);
+        }
+        let tolerance = self.ccd.tolerance.max(0.0);
+        let margin = tolerance + CERTIFIER_SLACK;
+        let dq: Vec<f64> = a.iter().zip(b).map(|(x, y)| y - x).collect();
+        let fastest = (0..bound.links().len()).map(|i| bound.bound(i, &dq)).fold(0.0, f64::max);
+        if self.options.certify && fastest / margin + 2.0 > self.ccd.max_queries as f64 {
+            return None;
+        }
+        // What no group joint moves is the same at every state: decide it once, at the first
+        // segment's start (a valid state clears its fixed self pairs).
+        let static_clear = self.static_clear.get().unwrap_or_else(|| {
+            let mut d = Vec::new();
+            let clear = self.checker.is_valid(a)
+                && (!self.checker.link_distances(a, &mut d)
+                    || d.iter().enumerate().all(|(i, &x)| bound.is_moving(i) || x >= tolerance));
+            self.static_clear.set(Some(clear));
+            clear
+        });
+        if !static_clear {
+            return None;
+        }
+        match certifier.certify(a, b, bound, margin, CERTIFIER_STEPS) {
+            Certificate::Free => Some(true),
+            Certificate::Unknown { near: Some(t) } if self.options.certify => {
+                // The collision, if any, is at or just after `t`: look at `t` and the next
+                // few states a planning step apart.
+                let len = distance(a, b);
+                let dt = if len > 0.0 { self.options.step / len } else { 1.0 };
+                let mut q = Vec::with_capacity(a.len());
+                let environment_hit = (0..STUCK_PROBES).map(|k| t + k as f64 * dt).take_while(|&s| s <= 1.0).any(|s| {
+                    interpolate_into(a, b, s, &mut q);
+                    self.checker.residual_valid(&q) == Some(true) && !self.checker.is_valid(&q)
+                });
+                environment_hit.then_some(false)
+            }
+            Certificate::Unknown { .. } => None,
+        }
     }
 
     /// The verdict of the three validators on `a → b` (all must accept), computed cheaply:
@@ -99,7 +191,13 @@ impl<'a> SegmentCheck<'a> {
     /// The verdict is the conjunction of the three validators' verdicts, exactly as if each
     /// ran in full: certified clearance means the environment part of every strict state is
     /// free, which is all the residual check leaves out.
+    ///
+    /// A segment the certifier decides ([`SegmentCheck::decided`]) is not checked further:
+    /// its decision is the verdict of the three validators.
     fn ok(&self, a: &[f64], b: &[f64]) -> bool {
+        if let Some(verdict) = self.decided(a, b) {
+            return verdict;
+        }
         if !segment_valid_discrete(self.checker, a, b, self.options.planning_step) {
             return false;
         }
@@ -129,7 +227,19 @@ pub fn repair(
     limits: &[(f64, f64)],
     options: &ShortcutOptions,
 ) -> (Vec<Vec<f64>>, ShortcutStats) {
-    let check = SegmentCheck::new(checker, options);
+    repair_with(checker, None, path, limits, options)
+}
+
+/// [`repair`], accepting the segments `certifier` proves free without the exact checks (same
+/// result, see the [module docs](self)).
+pub fn repair_with(
+    checker: &dyn StateValidityChecker,
+    certifier: Option<&dyn SegmentCertifier>,
+    path: &[Vec<f64>],
+    limits: &[(f64, f64)],
+    options: &ShortcutOptions,
+) -> (Vec<Vec<f64>>, ShortcutStats) {
+    let check = SegmentCheck::new(checker, certifier, options);
     let mut rng = ChaCha8Rng::seed_from_u64(options.seed ^ 0x5eed_0f2e_9a12);
     let mut stats = ShortcutStats::default();
     let mut out: Vec<Vec<f64>> = path.first().cloned().into_iter().collect();
@@ -191,7 +301,18 @@ pub fn shortcut(
     path: &[Vec<f64>],
     options: &ShortcutOptions,
 ) -> (Vec<Vec<f64>>, ShortcutStats) {
-    let check = SegmentCheck::new(checker, options);
+    shortcut_with(checker, None, path, options)
+}
+
+/// [`shortcut`], accepting the segments `certifier` proves free without the exact checks
+/// (same result, see the [module docs](self)).
+pub fn shortcut_with(
+    checker: &dyn StateValidityChecker,
+    certifier: Option<&dyn SegmentCertifier>,
+    path: &[Vec<f64>],
+    options: &ShortcutOptions,
+) -> (Vec<Vec<f64>>, ShortcutStats) {
+    let check = SegmentCheck::new(checker, certifier, options);
     let mut path: Vec<Vec<f64>> = path.to_vec();
     let mut stats = ShortcutStats::default();
     let mut rng = ChaCha8Rng::seed_from_u64(options.seed);

@@ -73,13 +73,42 @@ pub(crate) fn segment_subdivisions(a: &[f64], b: &[f64], step: f64) -> usize {
 /// [`segment_valid_discrete_by`] with a caller's buffer for the interpolated states.
 pub(crate) fn segment_valid_discrete_into(
     q: &mut Vec<f64>,
-    mut valid: impl FnMut(&[f64]) -> bool,
+    valid: impl FnMut(&[f64]) -> bool,
     a: &[f64],
     b: &[f64],
     step: f64,
 ) -> bool {
-    if !valid(b) {
-        return false;
+    segment_valid_discrete_first(q, valid, a, b, step, usize::MAX)
+}
+
+/// The first `states` states of [`segment_valid_discrete`]'s order (end state first, then
+/// coarse to fine): false if one of them is invalid, so that the full check rejects the
+/// segment too.
+pub(crate) fn segment_probe(valid: impl FnMut(&[f64]) -> bool, a: &[f64], b: &[f64], step: f64, states: usize) -> bool {
+    segment_valid_discrete_first(&mut Vec::with_capacity(a.len()), valid, a, b, step, states)
+}
+
+/// [`segment_valid_discrete_into`] stopping (true) after `states` checked states.
+fn segment_valid_discrete_first(
+    q: &mut Vec<f64>,
+    mut valid: impl FnMut(&[f64]) -> bool,
+    a: &[f64],
+    b: &[f64],
+    step: f64,
+    states: usize,
+) -> bool {
+    let mut budget = states;
+    let mut valid = move |q: &[f64]| {
+        if budget == 0 {
+            return None;
+        }
+        budget -= 1;
+        Some(valid(q))
+    };
+    match valid(b) {
+        Some(false) => return false,
+        None => return true,
+        Some(true) => {}
     }
     let n = segment_subdivisions(a, b, step);
     if n <= 1 {
@@ -90,8 +119,10 @@ pub(crate) fn segment_valid_discrete_into(
         let mut i = stride;
         while i < n {
             interpolate_into(a, b, i as f64 / n as f64, q);
-            if !valid(q) {
-                return false;
+            match valid(q) {
+                Some(false) => return false,
+                None => return true,
+                Some(true) => {}
             }
             i += 2 * stride;
         }

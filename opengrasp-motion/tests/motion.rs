@@ -424,6 +424,7 @@ fn planar_scene() -> BenchmarkScene {
                 goal: Goal::Configuration(GOAL.to_vec()),
                 checker: Box::new(world),
                 planning_checker: None,
+                certifier: None,
             })
         }),
     }
@@ -478,6 +479,7 @@ fn benchmark_records_invalid_input_and_timeouts() {
         goal: Goal::Configuration(GOAL.to_vec()),
         checker: Box::new(world),
         planning_checker: None,
+        certifier: None,
     };
     let options = BenchmarkOptions::default();
     let r = run_once(&mut RrtConnect::default(), &instance, "bad", 0, 0, 0.0, &options);

@@ -550,6 +550,7 @@ pub fn planar_scene() -> BenchmarkScene {
                 goal: Goal::Configuration(vec![-1.2, 0.3]),
                 checker: Box::new(world),
                 planning_checker: None,
+                certifier: None,
             })
         }),
     }

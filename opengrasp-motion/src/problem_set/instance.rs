@@ -385,6 +385,7 @@ impl LoadedProblemSet {
             goal: p.goal.clone(),
             checker: Box::new(checker),
             planning_checker: None,
+            certifier: None,
         })
     }
 }

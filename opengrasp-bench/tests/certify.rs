@@ -1,0 +1,155 @@
+//! Certified post-processing: the conservative model's proofs imply the exact validators'
+//! verdicts, so post-processing with it gives exactly the paths of the exact procedure.
+
+use std::sync::Arc;
+use std::time::Duration;
+
+use nalgebra::Isometry3;
+use opengrasp_bench::scenes::{armar_standard_scene, certifier_for};
+use opengrasp_core::collision::CollisionWorld;
+use opengrasp_core::model::{Geometry, JointGroup, Robot, Shape};
+use opengrasp_core::scene::{RobotId, Scene, SceneObject, StaticBody};
+use opengrasp_motion::benchmark::{postprocessing_options, BenchmarkOptions, SceneInstance};
+use opengrasp_motion::certify::{Certificate, SegmentCertifier, SphereCertifier};
+use opengrasp_motion::planners::RrtConnect;
+use opengrasp_motion::smoothing::{repair_with, shortcut_with};
+use opengrasp_motion::validate::{validate_path, ValidationOptions};
+use opengrasp_motion::validity::{CollisionChecker, MotionBound, StateValidityChecker};
+use opengrasp_motion::{MotionError, MotionPlanner};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// The stock kitchen, its humanoid, `group` and the start configuration.
+fn kitchen(group: &str) -> (Scene, RobotId, Arc<Robot>, JointGroup, Vec<f64>) {
+    let kitchen = opengrasp_assets::scenes::kitchen().unwrap();
+    let robot = kitchen.scene.robot(kitchen.robot).unwrap().robot.clone();
+    let group = robot.group(group).unwrap().clone();
+    (kitchen.scene, kitchen.robot, robot, group, kitchen.start_configuration)
+}
+
+/// Random segments of length up to `reach` from random valid states; returns (certified,
+/// tried). Every certified segment must pass the exact discrete, strict and continuous
+/// validators.
+fn certified_segments_are_valid(
+    checker: &dyn StateValidityChecker,
+    certifier: &dyn SegmentCertifier,
+    limits: &[(f64, f64)],
+    centre: &[f64],
+    spread: f64,
+    reach: f64,
+    seed: u64,
+) -> (usize, usize) {
+    let bound = checker.motion_bound().expect("a motion bound");
+    let options = ValidationOptions::default();
+    let margin = options.ccd.tolerance + 1e-6;
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut draw = |c: &[f64], s: f64| -> Vec<f64> {
+        c.iter().zip(limits).map(|(v, (lo, hi))| (v + rng.random_range(-s..=s)).clamp(*lo, *hi)).collect()
+    };
+    let (mut certified, mut tried, mut draws) = (0, 0, 0);
+    while tried < 40 && draws < 4000 {
+        draws += 1;
+        let a = draw(centre, spread);
+        if !checker.is_valid(&a) {
+            continue;
+        }
+        let b = draw(&a, reach);
+        tried += 1;
+        if certifier.certify(&a, &b, bound, margin, 100) == Certificate::Free {
+            certified += 1;
+            let v = validate_path(checker, &[a.clone(), b.clone()], &options);
+            assert!(v.discrete && v.strict && v.continuous == Some(true), "{a:?} -> {b:?}: {v:?}");
+        }
+    }
+    (certified, tried)
+}
+
+/// Kitchen scene 1 (hip + right arm, the whole humanoid modelled): random segments around
+/// the start that the model certifies pass every exact validator, and it certifies many.
+#[test]
+fn certified_kitchen_segments_pass_the_exact_validators() {
+    let instance = (armar_standard_scene().generate)(0).unwrap();
+    let certifier = instance.certifier.as_deref().expect("kitchen scenes carry a certifier");
+    let limits = instance.group.limits(&instance.robot);
+    let (certified, tried) =
+        certified_segments_are_valid(&*instance.checker, certifier, &limits, &instance.start, 1.2, 0.6, 1);
+    println!("kitchen scene 1: {certified} of {tried} random segments certified");
+    assert!(tried == 40 && certified >= tried / 5, "{certified} of {tried}");
+}
+
+/// A carried object (a box attached to the palm, Clean the Table's group with the base): the
+/// certified segments pass the exact validators with the carried object's motion bound.
+#[test]
+fn certified_segments_with_a_carried_object_pass_the_exact_validators() {
+    let (mut scene, rid, robot, group, mut q) = kitchen("base_hip_right_arm");
+    let elbow = robot.dof_index("right_elbow").unwrap();
+    q[elbow] = 1.2;
+    scene.set_robot_configuration(rid, &q).unwrap();
+    let palm = scene.link_world_pose(rid, "right_hand_palm").unwrap();
+    let object = SceneObject::new(
+        "carried",
+        palm * Isometry3::translation(0.1, 0.0, 0.06),
+        vec![Shape::at_origin(Geometry::cuboid(0.05, 0.05, 0.08))],
+        0.2,
+    );
+    let id = scene.add_object(object).unwrap();
+    scene.attach(id, rid, "right_hand_palm").unwrap();
+    let offset = scene.attachment_of(id).unwrap().offset;
+    let corners: Vec<_> =
+        scene.object(id).unwrap().shapes.iter().flat_map(|s| s.aabb_corners().map(|p| offset * p)).collect();
+    let palm_id = robot.link_id("right_hand_palm").unwrap();
+    let bound = MotionBound::from_robot_with(&robot, &group, &[(palm_id, corners)]).unwrap();
+    let world = Arc::new(CollisionWorld::new(&scene).unwrap());
+    let checker = CollisionChecker::new(world, rid, robot.clone(), group.clone(), q.clone()).unwrap().with_bound(bound);
+    let certifier = certifier_for(&scene, rid, &group, &q, &checker).unwrap();
+    let limits = group.limits(&robot);
+    let start = group.extract(&q);
+    assert!(checker.is_valid(&start), "the carrying start state collides");
+    let (certified, tried) = certified_segments_are_valid(&checker, &certifier, &limits, &start, 0.5, 0.3, 2);
+    println!("carried object: {certified} of {tried} random segments certified");
+    assert!(tried == 40 && certified >= tried / 5, "{certified} of {tried}");
+}
+
+/// Post-processing with the certifier gives exactly the exact procedure's paths (kitchen
+/// scene 1, RRT-Connect paths of two seeds), and they pass every validator.
+#[test]
+fn certified_postprocessing_gives_the_exact_paths() {
+    let instance: SceneInstance = (armar_standard_scene().generate)(0).unwrap();
+    let limits = instance.group.limits(&instance.robot);
+    let options = BenchmarkOptions::default();
+    let mut planner = RrtConnect::default();
+    for seed in 0..2 {
+        let problem = instance.problem(&*instance.checker, Duration::from_secs(10), seed, 0.02);
+        let path = planner.plan(&problem).unwrap().path;
+        let so = postprocessing_options(&options, seed);
+        let run = |certifier: Option<&dyn SegmentCertifier>| {
+            let (repaired, _) = repair_with(&*instance.checker, certifier, &path, &limits, &so);
+            shortcut_with(&*instance.checker, certifier, &repaired, &so)
+        };
+        let (exact, exact_stats) = run(None);
+        let (fast, fast_stats) = run(instance.certifier.as_deref());
+        assert_eq!(fast, exact, "seed {seed}");
+        assert_eq!(fast_stats, exact_stats);
+        assert!(exact_stats.accepted > 0);
+        let v = validate_path(&*instance.checker, &fast, &options.validation);
+        assert!(v.discrete && v.strict && v.continuous == Some(true), "{v:?}");
+    }
+}
+
+/// Scenes the model does not cover and bad configurations are typed errors.
+#[test]
+fn unsupported_scenes_are_typed_errors() {
+    let (mut scene, rid, robot, group, q) = kitchen("hip_right_arm");
+    let world = CollisionWorld::new(&scene).unwrap();
+    let bound = MotionBound::from_robot(&robot, &group).unwrap();
+    let short = SphereCertifier::new(&scene, rid, &group, &q[..3], &bound, &world);
+    assert!(matches!(short, Err(MotionError::DimensionMismatch { .. })), "{short:?}");
+    let partial = MotionBound::new(&robot, &group, &[], &[]).unwrap();
+    let missing = SphereCertifier::new(&scene, rid, &group, &q, &partial, &world);
+    assert!(matches!(missing, Err(MotionError::InvalidParameter { name: "bound", .. })), "{missing:?}");
+    scene.add_robot("twin", robot.clone(), Isometry3::translation(4.0, 1.0, 0.0)).unwrap();
+    scene.add_body(StaticBody::new("post", Isometry3::identity(), vec![])).unwrap();
+    let world = CollisionWorld::new(&scene).unwrap();
+    let two = SphereCertifier::new(&scene, rid, &group, &q, &bound, &world);
+    assert!(matches!(two, Err(MotionError::InvalidParameter { name: "scene", .. })), "{two:?}");
+}
