@@ -42,6 +42,19 @@ fn mbm_set_directory_loads_scenes_and_requests() {
 }
 
 #[test]
+fn a_set_named_by_a_relative_path_finds_its_robot_and_loads() {
+    // Cargo runs tests in the package directory, so this path is relative to it. The robot
+    // found two levels up must not be resolved against the set's directory a second time.
+    let relative = Path::new("tests/data/mbm/panda/problems/cage_panda");
+    assert!(relative.is_relative() && relative.is_dir(), "run from the package directory");
+    let sets = problem_set::load(relative).unwrap();
+    let urdf = sets[0].robot.urdf.as_ref().unwrap();
+    assert!(urdf.is_absolute() && urdf.ends_with("panda/panda.urdf"), "{}", urdf.display());
+    let loaded = LoadedProblemSet::new(&sets[0]).unwrap();
+    assert_eq!((loaded.len(), loaded.group().len()), (5, 7));
+}
+
+#[test]
 fn a_directory_of_sets_gives_one_set_each_sorted() {
     let sets = problem_set::load(data().join("problems")).unwrap();
     let names: Vec<&str> = sets.iter().map(|s| s.name.as_str()).collect();

@@ -391,7 +391,10 @@ fn find_robot(dir: &Path, name: &str) -> Option<(PathBuf, Option<PathBuf>)> {
     if name.is_empty() || name.contains(['/', '\\']) || name == ".." {
         return None;
     }
-    let mut at = Some(dir);
+    // Absolute, so the search can climb above the working directory and the paths found do
+    // not depend on it (a relative path would be resolved against the set's directory again).
+    let dir = std::path::absolute(dir).ok()?;
+    let mut at = Some(dir.as_path());
     for _ in 0..=ROBOT_SEARCH_LEVELS {
         let d = at?;
         for urdf in [d.join(format!("{name}.urdf")), d.join(name).join(format!("{name}.urdf"))] {
