@@ -16,7 +16,9 @@ use opengrasp_assets::{hands, objects};
 use opengrasp_grasp::evaluator::{
     physics_check, static_hold, EvaluatorOptions, GraspEvaluator, HoldResult, PhysicsCheckOptions, StaticHoldOptions,
 };
-use opengrasp_grasp::planners::{GraspPlanner, GraspRequest, MedialAxisPlanner, SurfaceNormalPlanner};
+use opengrasp_grasp::planners::{GraspPlanner, MedialAxisPlanner, SurfaceNormalPlanner};
+
+mod common;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -37,18 +39,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         for object in objects::NAMES.split_at(8).0 {
             let object = objects::by_name(object)?;
             let mut evaluator = GraspEvaluator::new(&hand, &object, EvaluatorOptions::default())?;
-            let info = evaluator.hand_info().clone();
-            let request = GraspRequest { hand: &info, object: &object.mesh, seed: 0 };
             for planner in planners {
-                let candidates = planner.plan(&request)?;
-                let m = candidates.len().min(128);
-                let mut grasps = Vec::new();
-                for i in 0..m {
-                    let e = evaluator.evaluate(&candidates[i * candidates.len() / m])?;
-                    if e.palm_contact && e.force_closure() {
-                        grasps.push(e);
-                    }
-                }
+                let grasps = common::fc_palm_grasps(&mut evaluator, &object, planner)?;
                 let k = per_cell.min(grasps.len());
                 for j in 0..k {
                     let g = &grasps[j * grasps.len() / k];
