@@ -357,12 +357,12 @@ fn run_grasp_with_physics_checks_end_to_end() {
     // The tiny suite's medial-axis cell has four force-closure palm grasps: two are simulated.
     let ma = cells.iter().find(|c| c.cell.planner == "medial-axis").unwrap();
     assert_eq!((ma.cell.force_closure_palm, ma.cell.physics_tested), (4, 2), "{:?}", ma.cell);
-    assert!(cells
-        .iter()
-        .all(|c| c.cell.physics_held <= c.cell.physics_tested
-            && c.cell.physics_tested <= c.cell.force_closure_palm.min(2)));
+    assert!(cells.iter().all(|c| c.cell.physics_held <= c.cell.physics_tested
+        && c.cell.static_holdable <= c.cell.physics_tested
+        && c.cell.static_agree <= c.cell.physics_tested
+        && c.cell.physics_tested <= c.cell.force_closure_palm.min(2)));
     let text = report::render(&checked, Format::Table);
-    assert!(text.contains("MA held"), "{text}");
+    assert!(text.contains("MA held") && text.contains("MA stat"), "{text}");
     // --grasps: one record per evaluated candidate, adding up to the cell's figures.
     for c in cells.iter().map(|r| &r.cell) {
         let k = &c.candidates;

@@ -490,12 +490,15 @@ fn sdh_parts(p: &str) -> Parts {
     parts
 }
 
-/// Proximal opening (rad) of the open SDH preshapes, just inside the joints' −90° limit: the
-/// proximal phalanges lie almost flat, pointing away from the palm, so a flat face or a can
-/// laid on the hand rests on the finger-base modules (palm links) rather than on them. Opened
-/// by only 1 rad they leaned out at 57°, and their inner edges, 34 mm above the palm plate
-/// and 16 mm above the bases, stood over the base modules and touched first.
-const SDH_OPEN: f64 = 1.45;
+/// Proximal opening (rad) of the open SDH preshapes: the joints' −90° limit (SDH manual; the
+/// `schunk_description` URDF's ±π/2), where the proximal phalanges lie flat, pointing away
+/// from the palm, so a flat face or a can laid on the hand rests on the finger-base modules
+/// (palm links) rather than on them. Opened by only 1 rad they leaned out at 57° and their
+/// inner edges stood over the base modules; at 1.45 rad (83°) their inner top corners still
+/// reached 29.6 mm from the palm axis, over the 60 mm faces of the salt box (30 mm), which then
+/// touched them first: no surface-normal grasp of it had the palm touching. Flat, the corners
+/// are 31 mm out.
+const SDH_OPEN: f64 = FRAC_PI_2;
 
 /// Open SDH preshape: finger rotation `rotation`, proximal joints opened by [`SDH_OPEN`] and
 /// distal joints bent back by as much, so the distal phalanges stand upright about 21 cm

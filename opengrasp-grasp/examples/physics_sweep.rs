@@ -13,7 +13,9 @@
 
 use opengrasp_assets::{hands, objects};
 use opengrasp_grasp::evaluator::{physics_check, EvaluatorOptions, GraspEvaluator, HoldResult, PhysicsCheckOptions};
-use opengrasp_grasp::planners::{GraspPlanner, GraspRequest, MedialAxisPlanner, SurfaceNormalPlanner};
+use opengrasp_grasp::planners::{GraspPlanner, MedialAxisPlanner, SurfaceNormalPlanner};
+
+mod common;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut options = PhysicsCheckOptions::default();
@@ -44,19 +46,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         for object in objects::NAMES.split_at(8).0 {
             let object = objects::by_name(object)?;
             let mut evaluator = GraspEvaluator::new(&hand, &object, EvaluatorOptions::default())?;
-            let info = evaluator.hand_info().clone();
-            let request = GraspRequest { hand: &info, object: &object.mesh, seed: 0 };
             let mut line = format!("{name:8} {:17}", object.name);
             for planner in planners {
-                let candidates = planner.plan(&request)?;
-                let m = candidates.len().min(128);
-                let mut grasps = Vec::new();
-                for i in 0..m {
-                    let e = evaluator.evaluate(&candidates[i * candidates.len() / m])?;
-                    if e.palm_contact && e.force_closure() {
-                        grasps.push(e);
-                    }
-                }
+                let grasps = common::fc_palm_grasps(&mut evaluator, &object, planner)?;
                 let k = per_cell.min(grasps.len());
                 let mut h = 0;
                 for j in 0..k {

@@ -10,7 +10,8 @@
 //! of the grip the force-closure solver gives each (`evaluation_contacts`), then the
 //! simulated contact forces per link at the end of the clamped squeeze and every 10 ms for
 //! 50 ms after the release, with the net force the contacts put on the object and how far the
-//! joints moved. SQUEEZE overrides
+//! joints moved; before the simulation, the static torque-limited test's weakest direction with
+//! its contact forces and actuator torques. SQUEEZE overrides
 //! [`PhysicsCheckOptions::squeeze`]; `solo` gives every coupled joint its own full motor
 //! (`coupled_actuators` off) for comparison with the shared actuator.
 
@@ -19,7 +20,9 @@ use opengrasp_assets::{hands, objects};
 use opengrasp_core::physics::{ContactBody, PhysicsEngine, RapierBackend};
 use opengrasp_core::scene::ObjectId;
 use opengrasp_grasp::contact::ObjectFrame;
-use opengrasp_grasp::evaluator::{physics_check, EvaluatorOptions, GraspEvaluator, PhysicsCheckOptions};
+use opengrasp_grasp::evaluator::{
+    physics_check, static_hold, EvaluatorOptions, GraspEvaluator, PhysicsCheckOptions, StaticHoldOptions,
+};
 use opengrasp_grasp::planners::{GraspPlanner, GraspRequest, MedialAxisPlanner, SurfaceNormalPlanner};
 use opengrasp_grasp::tactile::sources::{evaluation_contacts, squeeze_engine, TactileSeriesOptions};
 
@@ -88,6 +91,29 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             n.as_slice(),
             f.force
         );
+    }
+    // The static torque-limited test: its weakest gravity direction, the forces it finds there
+    // at the largest load, and the actuators' torques.
+    let statics = static_hold(&hand, &object, grasp, &StaticHoldOptions::default())?;
+    let loads: Vec<String> = statics.directions.iter().map(|d| format!("{:.2}", d.load_factor)).collect();
+    let weakest = statics.weakest().expect("six directions");
+    println!(
+        "static test: load factor per direction (±x ±y ±z) [{}]; weakest {:.0?} at {:.2} × the weight",
+        loads.join(" "),
+        weakest.direction.as_slice(),
+        weakest.load_factor
+    );
+    for (c, f) in grasp.contacts.iter().zip(&weakest.contact_forces) {
+        let n = f.dot(&c.contact.normal);
+        let name = &robot.link(opengrasp_core::model::LinkId(c.link)).name;
+        println!(
+            "  static {name:10} normal {n:7.2} N, tangential {:6.2} N",
+            (f - c.contact.normal.into_inner() * n).norm()
+        );
+    }
+    for a in &weakest.actuators {
+        let name = &robot.joint(robot.dof_joint(a.dof)).name;
+        println!("  static actuator {name:14} {:7.3} of {:.3} N·m", a.torque, a.limit);
     }
     let squeeze =
         TactileSeriesOptions { squeeze: options.squeeze, physics: options.physics.clone(), ..Default::default() };

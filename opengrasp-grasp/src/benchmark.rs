@@ -216,6 +216,15 @@ pub struct CellResult {
     /// drop distance: the simulated grip itself pushes it out.
     #[serde(default)]
     pub physics_grip_moved: usize,
+    /// Of the simulated grasps, those the static torque-limited test
+    /// ([`crate::evaluator::static_hold`], the object's friction) finds able to hold the
+    /// object's weight in all six directions.
+    #[serde(default)]
+    pub static_holdable: usize,
+    /// Of the simulated grasps, those where the static test and the simulation agree (both hold
+    /// or both do not).
+    #[serde(default)]
+    pub static_agree: usize,
     /// Wall time for planning (s).
     pub planning_seconds: f64,
     /// Wall time for evaluation (s).
@@ -352,6 +361,7 @@ pub fn run_grasp_benchmark_with(
                 };
                 let (mut physics_tested, mut physics_held) = (0, 0);
                 let (mut physics_slipped, mut physics_dropped, mut physics_grip_moved) = (0, 0, 0);
+                let (mut static_holdable, mut static_agree) = (0, 0);
                 let mut held_by_evaluation = vec![None; evaluations.len()];
                 let mut series_by_evaluation = vec![Vec::new(); evaluations.len()];
                 if config.physics_per_cell > 0 && !fc_palm.is_empty() {
@@ -365,6 +375,14 @@ pub fn run_grasp_benchmark_with(
                         physics_dropped += usize::from(outcome.result() == Some(HoldResult::Dropped));
                         physics_grip_moved += usize::from(outcome.grip_translation > config.physics.drop_translation);
                         held_by_evaluation[k] = Some(outcome.held());
+                        let statics = crate::evaluator::static_hold(
+                            hand,
+                            object,
+                            &evaluations[k],
+                            &crate::evaluator::StaticHoldOptions::default(),
+                        )?;
+                        static_holdable += usize::from(statics.holdable());
+                        static_agree += usize::from(statics.holdable() == outcome.held());
                         if let (Some((array, _)), Some(options)) =
                             (&tactile, config.tactile.as_ref().and_then(|t| t.series.as_ref()))
                         {
@@ -430,6 +448,8 @@ pub fn run_grasp_benchmark_with(
                     physics_slipped,
                     physics_dropped,
                     physics_grip_moved,
+                    static_holdable,
+                    static_agree,
                     planning_seconds,
                     evaluation_seconds,
                     evaluations_per_second: if evaluation_seconds > 0.0 {

@@ -5,8 +5,8 @@ use std::sync::Arc;
 use nalgebra::{Point3, Unit, Vector3};
 use opengrasp_assets::hands;
 use opengrasp_grasp::evaluator::{
-    hand_info, physics_check, EvaluationStatus, EvaluatorOptions, GraspEvaluation, GraspEvaluator, HoldResult,
-    PhysicsCheckOptions,
+    hand_info, physics_check, static_hold, EvaluationStatus, EvaluatorOptions, GraspEvaluation, GraspEvaluator,
+    HoldResult, PhysicsCheckOptions, StaticHoldOptions,
 };
 use opengrasp_grasp::planners::{
     fitting_preshape, palm_pose, GraspCandidate, GraspPlanner, GraspRequest, HandInfo, MedialAxisPlanner, Preshape,
@@ -360,4 +360,12 @@ fn barrett_power_grasp_holds_a_salt_can_against_gravity_in_all_six_directions() 
     assert!(dropped.translations[0] > 0.05, "{dropped:?}");
     let expected = if dropped.translations[0] > 0.1 { HoldResult::Dropped } else { HoldResult::Slipped };
     assert_eq!(dropped.result(), Some(expected), "{dropped:?}");
+    // The static torque-limited test agrees: with μ = 0.5 the wrap balances the weight in all
+    // six directions (with a margin: every load factor above 5); without friction every contact
+    // normal is perpendicular to the can's axis, so nothing balances gravity along it (0).
+    let statics = static_hold(&hand, &object, &e, &StaticHoldOptions::default()).unwrap();
+    assert!(statics.holdable() && statics.weakest().unwrap().load_factor > 5.0, "{statics:?}");
+    let axial = StaticHoldOptions { directions: vec![-Vector3::z()], friction: Some(0.0), ..Default::default() };
+    let slips = static_hold(&hand, &object, &e, &axial).unwrap();
+    assert!(slips.directions[0].load_factor < 1e-6, "{slips:?}");
 }

@@ -15,9 +15,12 @@ use nalgebra::{Isometry3, Point3, Vector3};
 use opengrasp_core::hand::{FingerSpec, Hand, HandSpec};
 use opengrasp_core::model::{Geometry, Inertial, JointKind, JointSpec, Link, RobotBuilder, Shape, TriangleMesh};
 use opengrasp_core::object::ObjectModel;
+use opengrasp_grasp::contact::Contact;
 use opengrasp_grasp::evaluator::{
-    physics_check, EvaluationStatus, GraspEvaluation, HoldResult, PhysicsCheckOptions, PhysicsOutcome,
+    physics_check, static_hold, EvaluationStatus, GraspContact, GraspEvaluation, HoldResult, PhysicsCheckOptions,
+    PhysicsOutcome, StaticHoldOptions, StaticHoldOutcome,
 };
+use opengrasp_grasp::GraspError;
 
 /// Pad force (N): the prismatic joints' effort limit.
 const PAD_FORCE: f64 = 10.0;
@@ -149,4 +152,137 @@ fn wedge_pinch_squeezes_out_iff_mu_is_below_tan_alpha() {
     // 4.8 mm at 5 % above).
     assert!(out.grip_translation > 0.1, "{out:?}");
     assert!(stays.grip_translation < 5e-3, "{stays:?}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// The static, torque-limited hold test on the same pinches (analytic load factors)
+// ---------------------------------------------------------------------------------------------
+
+/// The pinch with its contacts: each pad touches the face at mid-height at x = ±2 cm, pushing
+/// along the face's inward normal `(-side cos α, sin α)` in (y, z).
+fn pinch_with_contacts(hand: &Hand, alpha: f64) -> GraspEvaluation {
+    let mut e = pinch(hand);
+    let (s, c) = alpha.sin_cos();
+    for (link, side) in [(1, 1.0), (2, -1.0)] {
+        for x in [-0.02, 0.02] {
+            let contact =
+                Contact::new(Point3::new(x, side * HALF_WIDTH, 0.0), Vector3::new(0.0, -side * c, s)).unwrap();
+            e.contacts.push(GraspContact { link, finger: Some(link - 1), contact, depth: 0.0 });
+        }
+    }
+    e
+}
+
+fn statics(alpha: f64, mass: f64, friction: f64, directions: Vec<Vector3<f64>>) -> StaticHoldOutcome {
+    let hand = gripper(alpha);
+    let options = StaticHoldOptions { directions, ..Default::default() };
+    static_hold(&hand, &wedge(alpha, mass, friction), &pinch_with_contacts(&hand, alpha), &options).unwrap()
+}
+
+/// The forces returned balance `s` times the weight (force and moment about the centre of
+/// mass), lie in their friction cones, and the actuators stay within their limits.
+fn assert_balanced(outcome: &StaticHoldOutcome, alpha: f64, mass: f64, friction: f64) {
+    let hand = gripper(alpha);
+    let e = pinch_with_contacts(&hand, alpha);
+    let com = wedge(alpha, mass, friction).center_of_mass();
+    for d in &outcome.directions {
+        let force: Vector3<f64> =
+            d.contact_forces.iter().sum::<Vector3<f64>>() + d.direction * (d.load_factor * mass * 9.81);
+        let moment: Vector3<f64> =
+            e.contacts.iter().zip(&d.contact_forces).map(|(c, f)| (c.contact.point - com).cross(f)).sum();
+        assert!(force.norm() < 1e-5 * mass * 9.81 && moment.norm() < 1e-6, "{d:?}");
+        for (c, f) in e.contacts.iter().zip(&d.contact_forces) {
+            let n = f.dot(&c.contact.normal);
+            assert!((f - c.contact.normal.into_inner() * n).norm() <= friction * n + 1e-6, "{d:?}");
+        }
+        assert!(d.actuators.iter().all(|a| a.torque.abs() <= a.limit * (1.0 + 1e-6)), "{d:?}");
+    }
+}
+
+#[test]
+fn static_box_pinch_carries_two_mu_f_along_the_pads_and_f_across_them() {
+    let (mass, mu) = (1.0, 0.3);
+    let out = statics(0.0, mass, mu, vec![Vector3::x(), -Vector3::z(), Vector3::y(), -Vector3::y()]);
+
+    let weight = mass * 9.81;
+    let load: Vec<f64> = out.directions.iter().map(|d| d.load_factor).collect();
+    // Along the pads (x, and z towards the palm, which does not touch): friction of both pads
+    // at their full squeeze, 2 μ F / (m g) = 0.6116.
+    for s in &load[..2] {
+        assert!((s - 2.0 * mu * PAD_FORCE / weight).abs() < 1e-6, "{load:?}");
+    }
+    // Across them: one pad pushes with F, the other lets go: F / (m g) = 1.0194.
+    for s in &load[2..] {
+        assert!((s - PAD_FORCE / weight).abs() < 1e-6, "{load:?}");
+    }
+    // Both pads saturate along the pads; across them only the pushing one.
+    assert_eq!(out.directions[0].saturated, vec![0, 1]);
+    assert_eq!(out.directions[2].saturated.len(), 1);
+    assert!(!out.holdable());
+    assert_balanced(&out, 0.0, mass, mu);
+    // Holdable iff 2 μ F ≥ m g along the pads (F ≥ m g across them holds here).
+    let threshold = weight / (2.0 * PAD_FORCE);
+    assert!(!statics(0.0, mass, 0.95 * threshold, vec![Vector3::x()]).holdable());
+    assert!(statics(0.0, mass, 1.05 * threshold, vec![Vector3::x()]).holdable());
+    // Actuator-limited: half the mass, twice the load factor.
+    let half = statics(0.0, mass / 2.0, mu, vec![Vector3::x()]);
+    assert!((half.directions[0].load_factor - 2.0 * load[0]).abs() < 1e-6);
+}
+
+#[test]
+fn static_wedge_pinch_holds_against_pull_out_iff_mu_exceeds_tan_alpha() {
+    // Gravity pulling the wedge out of the hand (+z): each pad's normal force N pushes it out
+    // with N sin α, friction pulls it in with at most μ N cos α, and the pad's actuator carries
+    // N cos α + μ N sin α ≤ F. So s* = 2 F tan(φ − α) / (m g), φ = atan μ, and 0 if μ ≤ tan α;
+    // towards the palm (−z) it is 2 F tan(φ + α) / (m g).
+    let alpha = 20f64.to_radians();
+    let mass = 0.5;
+    let weight = mass * 9.81;
+    for mu in [0.8 * alpha.tan(), 0.5, 0.9] {
+        let out = statics(alpha, mass, mu, vec![Vector3::z(), -Vector3::z()]);
+        let phi = mu.atan();
+        let out_of_hand = (2.0 * PAD_FORCE * (phi - alpha).tan() / weight).max(0.0);
+        let into_hand = 2.0 * PAD_FORCE * (phi + alpha).tan() / weight;
+        println!(
+            "μ = {mu:.3}: s* = {:.4} (analytic {out_of_hand:.4}), {:.4} ({into_hand:.4})",
+            out.directions[0].load_factor, out.directions[1].load_factor
+        );
+        assert!((out.directions[0].load_factor - out_of_hand).abs() < 1e-5, "{out:?}");
+        assert!((out.directions[1].load_factor - into_hand).abs() < 1e-5, "{out:?}");
+        assert_balanced(&out, alpha, mass, mu);
+    }
+    // Below the cone angle nothing holds the wedge in: the pinch slips, as in the simulator.
+    assert!(statics(alpha, mass, 0.95 * alpha.tan(), vec![Vector3::z()]).directions[0].load_factor < 1e-6);
+}
+
+#[test]
+fn static_hold_rejects_bad_input() {
+    let hand = gripper(0.0);
+    let object = wedge(0.0, 1.0, 0.5);
+    let e = pinch_with_contacts(&hand, 0.0);
+    let bad = |options: StaticHoldOptions| static_hold(&hand, &object, &e, &options).unwrap_err();
+    assert!(matches!(
+        bad(StaticHoldOptions { directions: vec![Vector3::zeros()], ..Default::default() }),
+        GraspError::InvalidParameter { name: "directions", .. }
+    ));
+    assert!(matches!(
+        bad(StaticHoldOptions { friction: Some(-0.1), ..Default::default() }),
+        GraspError::InvalidParameter { name: "friction", .. }
+    ));
+    assert!(matches!(
+        bad(StaticHoldOptions { gravity: f64::NAN, ..Default::default() }),
+        GraspError::InvalidParameter { name: "gravity", .. }
+    ));
+    let mut missed = e.clone();
+    missed.status = EvaluationStatus::Missed;
+    assert!(static_hold(&hand, &object, &missed, &StaticHoldOptions::default()).is_err());
+    let mut bad_link = e.clone();
+    bad_link.contacts[0].link = 99;
+    assert!(matches!(
+        static_hold(&hand, &object, &bad_link, &StaticHoldOptions::default()).unwrap_err(),
+        GraspError::InvalidParameter { name: "evaluation", .. }
+    ));
+    // Same input, same answer, to the bit.
+    let options = StaticHoldOptions::default();
+    assert_eq!(static_hold(&hand, &object, &e, &options).unwrap(), static_hold(&hand, &object, &e, &options).unwrap());
 }

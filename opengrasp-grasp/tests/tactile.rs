@@ -296,10 +296,9 @@ fn sdh_physics_squeeze_gives_a_tactile_time_series() {
     assert_eq!(series, again);
 }
 
-/// Every finger pad faces the way its finger closes from the open hand (within 37°: the SDH's
-/// flat-opened fingers start their distal pads moving 33° upwards); palm pads face along the
-/// approach.
-fn check_layout(hand: &opengrasp_core::hand::Hand, specs: &[PadSpec]) {
+/// Every finger pad faces the way its finger closes from the open hand (cosine of the angle
+/// above `min_cos`); palm pads face along the approach.
+fn check_layout(hand: &opengrasp_core::hand::Hand, specs: &[PadSpec], min_cos: f64) {
     let robot = hand.robot();
     let q = hand.open_configuration();
     let mut q2 = q.clone();
@@ -317,23 +316,26 @@ fn check_layout(hand: &opengrasp_core::hand::Hand, specs: &[PadSpec]) {
             let approach = fk.as_slice()[l] * (hand.palm_frame().rotation * hand.approach().into_inner());
             assert!(normal.dot(&approach) > 0.99, "{} faces {normal:?}", s.name);
         } else {
-            assert!(moved.normalize().dot(&normal) > 0.8, "{} faces {normal:?}, moves {moved:?}", s.name);
+            assert!(moved.normalize().dot(&normal) > min_cos, "{} faces {normal:?}, moves {moved:?}", s.name);
         }
     }
 }
 
 #[test]
 fn stock_layouts_fit_the_stock_hands() {
-    for (hand, specs, pads) in [
-        (hands::sdh(), sdh_specs(""), 6),
-        (hands::barrett(), barrett_specs(""), 4),
-        (hands::armar3_hand(), armar3_specs(""), 15),
+    // Within 37° for the Barrett and the ARMAR-III; within 63° for the SDH, whose open fingers
+    // lie flat at their −90° limit with the distal phalanges upright, so closing starts its
+    // distal pads moving 59° upwards (cos 59° = 0.51).
+    for (hand, specs, pads, min_cos) in [
+        (hands::sdh(), sdh_specs(""), 6, 0.45),
+        (hands::barrett(), barrett_specs(""), 4, 0.8),
+        (hands::armar3_hand(), armar3_specs(""), 15, 0.8),
     ] {
         assert_eq!(specs.len(), pads);
         let array = TactileArray::from_specs(&hand, &specs).unwrap();
         assert_eq!(array.sensors().len(), pads);
         assert_eq!(TactileArray::stock(&hand).unwrap().sensors().len(), pads);
-        check_layout(&hand, &specs);
+        check_layout(&hand, &specs, min_cos);
         let json = serde_json::to_string(&specs).unwrap();
         assert_eq!(serde_json::from_str::<Vec<PadSpec>>(&json).unwrap(), specs);
     }

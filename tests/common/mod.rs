@@ -48,6 +48,8 @@ pub fn cell(
         physics_slipped: 0,
         physics_dropped: 0,
         physics_grip_moved: 0,
+        static_holdable: 0,
+        static_agree: 0,
         planning_seconds: 0.01,
         evaluation_seconds: 0.2,
         evaluations_per_second: evaluated as f64 / 0.2,

@@ -37,6 +37,7 @@ pub fn grasp_tables(g: &GraspSection) -> Vec<Table> {
             headers.push(format!("{a} eps"));
             if with_physics {
                 headers.push(format!("{a} held"));
+                headers.push(format!("{a} stat"));
             }
             if with_paper(p) {
                 headers.push(format!("{a} p.n"));
@@ -55,9 +56,10 @@ pub fn grasp_tables(g: &GraspSection) -> Vec<Table> {
                         row.push(epsilon(c.mean_epsilon, c.force_closure_palm));
                         if with_physics {
                             row.push(held(c.physics_held, c.physics_tested));
+                            row.push(held(c.static_holdable, c.physics_tested));
                         }
                     }
-                    None => row.extend(std::iter::repeat_n("-".to_string(), 3 + usize::from(with_physics))),
+                    None => row.extend(std::iter::repeat_n("-".to_string(), 3 + 2 * usize::from(with_physics))),
                 }
                 if with_paper(p) {
                     match PAPER_RESULTS.iter().find(|r| r.0 == object && r.1 == hand && r.2 == *p) {
@@ -86,7 +88,9 @@ pub fn grasp_tables(g: &GraspSection) -> Vec<Table> {
             if with_physics {
                 let tested: usize = pc.iter().map(|c| c.physics_tested).sum();
                 let n_held: usize = pc.iter().map(|c| c.physics_held).sum();
+                let n_static: usize = pc.iter().map(|c| c.static_holdable).sum();
                 total.push(held(n_held, tested));
+                total.push(held(n_static, tested));
             }
             if with_paper(p) {
                 let pr: Vec<_> = PAPER_RESULTS
@@ -112,6 +116,12 @@ pub fn grasp_tables(g: &GraspSection) -> Vec<Table> {
         ];
         if with_physics {
             legend.push("held: of the force-closure palm grasps simulated in rapier, those that kept the object in all six gravity directions (held/simulated).".into());
+            legend.push(
+                "stat: of the same grasps, those whose contacts can balance the object's weight in all six directions with \
+                 forces inside the friction cones and every actuator within its effort limit (static torque-limited test, \
+                 rigid bodies; a necessary condition for holding)."
+                    .into(),
+            );
         }
         if hand_planners.iter().any(|p| with_paper(p)) {
             legend.push("p.n, p.FC%: the OpenGRASP paper's n and FC% for the same hand, object and planner.".into());

@@ -21,6 +21,7 @@
 mod hand_data;
 mod options;
 mod physics;
+mod static_hold;
 
 use std::sync::Arc;
 
@@ -42,6 +43,7 @@ pub use hand_data::hand_info;
 use hand_data::{hand_data, hand_radius, HandData};
 pub use options::EvaluatorOptions;
 pub use physics::{physics_check, physics_check_with, HoldResult, PhysicsCheckOptions, PhysicsOutcome};
+pub use static_hold::{static_hold, ActuatorLoad, StaticDirection, StaticHoldOptions, StaticHoldOutcome};
 
 /// How an evaluation ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

@@ -41,6 +41,8 @@ pub fn cell(planner: &str, hand: &str, object: &str, palm: usize, fc: usize, eps
             physics_slipped: 0,
             physics_dropped: 0,
             physics_grip_moved: 0,
+            static_holdable: 0,
+            static_agree: 0,
             planning_seconds: 0.01,
             evaluation_seconds: 0.02,
             evaluations_per_second: 100.0,
