@@ -16,7 +16,10 @@
 //! `(gap − touch_distance / 2) / R_d`, where the gap is the smallest distance of the links it
 //! moves to the object and `R_d` bounds how fast any point of those links moves per unit of
 //! `d`. Each step is thus safe (no tunnelling through thin walls) and the number of distance
-//! queries grows with the logarithm of the travel, not with a fixed step size.
+//! queries grows with the logarithm of the travel, not with a fixed step size. A link is
+//! queried only when its lower bound (its last distance minus how far the step may have moved
+//! it) could set its finger's step or stop it; the steps are exactly those of querying every
+//! link.
 
 mod closing;
 mod hand_data;
