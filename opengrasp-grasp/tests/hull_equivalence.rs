@@ -1,7 +1,8 @@
 //! The optimised quickhull against the previous builder it replaced
 //! (`ConvexHull::from_flat_reference`): same facets, planes, volume and epsilon, bit for bit,
 //! on random grasp wrench spaces (3–9 contacts, point and soft-finger, 4–8 cone edges) and on
-//! random point clouds in 2–7 dimensions, including points with exact duplicates.
+//! random point clouds in 2–7 dimensions, including points with exact duplicates; and
+//! `ConvexHull::summary_flat` (depth, volume, facet count without the hull) against both.
 
 use nalgebra::{Point3, Vector3};
 use opengrasp_grasp::{Contact, ContactModel, ContactType, ConvexHull, GraspWrenchSpace, HullOptions, ObjectFrame};
@@ -29,10 +30,18 @@ fn assert_same(dim: usize, coords: &[f64], options: &HullOptions) -> Result<Opti
             prop_assert_eq!(a.joggle().to_bits(), b.joggle().to_bits());
             let origin = vec![0.0; dim];
             prop_assert_eq!(a.depth(&origin).to_bits(), b.depth(&origin).to_bits());
+            // The summary without the hull: the same three numbers, bit for bit.
+            let summary = ConvexHull::summary_flat(dim, coords, options, &origin)
+                .map_err(|e| TestCaseError::fail(format!("summary failed where the hull did not: {e}")))?;
+            prop_assert_eq!(summary.depth.to_bits(), a.depth(&origin).to_bits());
+            prop_assert_eq!(summary.volume.to_bits(), a.volume().to_bits());
+            prop_assert_eq!(summary.facets, a.num_facets());
             Ok(Some(a))
         }
         (Err(a), Err(b)) => {
             prop_assert_eq!(a.to_string(), b.to_string());
+            let summary = ConvexHull::summary_flat(dim, coords, options, &vec![0.0; dim]);
+            prop_assert_eq!(summary.map_err(|e| e.to_string()), Err(a.to_string()));
             Ok(None)
         }
         (a, b) => Err(TestCaseError::fail(format!("new {:?} vs reference {:?}", a.err(), b.err()))),

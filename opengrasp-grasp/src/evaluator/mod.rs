@@ -16,8 +16,12 @@
 //! `(gap − touch_distance / 2) / R_d`, where the gap is the smallest distance of the links it
 //! moves to the object and `R_d` bounds how fast any point of those links moves per unit of
 //! `d`. Each step is thus safe (no tunnelling through thin walls) and the number of distance
-//! queries grows with the logarithm of the travel, not with a fixed step size.
+//! queries grows with the logarithm of the travel, not with a fixed step size. A link is
+//! queried only when its lower bound (its last distance minus how far the step may have moved
+//! it) could set its finger's step or stop it; the steps are exactly those of querying every
+//! link.
 
+mod closing;
 mod hand_data;
 mod options;
 mod physics;
@@ -396,138 +400,6 @@ impl GraspEvaluator {
             friction_score: None,
             robust_epsilon: None,
         }
-    }
-
-    /// Replaces hull distances in `dist` by exact ones wherever the closing step reads them:
-    /// the result gives every active closing dof exactly the step and stop decision it would
-    /// get from exact distances for all its links, without querying links whose hull bound
-    /// already proves they cannot be the limiting one.
-    ///
-    /// Every link within [`HULL_SWITCH_DISTANCE`] of the hull gets its exact distance (it may
-    /// stop its finger); the farther links are refined in rounds, per dof, only while their hull
-    /// bound on the step `(d − touch/2) / R` is below the smallest exact-based step found so
-    /// far (the exact distance is at least the hull bound, so a skipped link never lowers the
-    /// minimum, and it is farther than the touch distance).
-    fn refine_exact(
-        &self,
-        q: &[f64],
-        active: &[bool],
-        dist: &mut [f64],
-        known: &mut [bool],
-        mask: &mut [bool],
-        exact: &mut Vec<f64>,
-    ) -> Result<()> {
-        let half_touch = 0.5 * self.options.touch_distance;
-        known.iter_mut().for_each(|k| *k = false);
-        let mut first = true;
-        loop {
-            mask.iter_mut().for_each(|m| *m = false);
-            let mut any = false;
-            for (c, _) in self.data.closing.iter().zip(active).filter(|(_, &act)| act) {
-                let bound = |l: usize, r: f64| (dist[l] - half_touch) / r;
-                let mut current = f64::INFINITY;
-                for (&l, &r) in c.links.iter().zip(&c.speed_bounds) {
-                    if known[l] || (first && dist[l] <= HULL_SWITCH_DISTANCE) {
-                        current = current.min(bound(l, r));
-                    }
-                }
-                if first {
-                    for &l in &c.links {
-                        if dist[l] <= HULL_SWITCH_DISTANCE {
-                            mask[l] = true;
-                            any = true;
-                        }
-                    }
-                }
-                if current == f64::INFINITY {
-                    // Nothing exact yet for this dof: start with its most limiting link.
-                    let pick = c
-                        .links
-                        .iter()
-                        .zip(&c.speed_bounds)
-                        .filter(|(&l, _)| !known[l])
-                        .min_by(|a, b| bound(*a.0, *a.1).total_cmp(&bound(*b.0, *b.1)));
-                    if let Some((&l, _)) = pick {
-                        mask[l] = true;
-                        any = true;
-                    }
-                } else if !first {
-                    for (&l, &r) in c.links.iter().zip(&c.speed_bounds) {
-                        if !known[l] && bound(l, r) < current {
-                            mask[l] = true;
-                            any = true;
-                        }
-                    }
-                }
-            }
-            if !any {
-                return Ok(());
-            }
-            self.world.selected_link_distances_into(self.robot, q, mask, exact)?;
-            for l in 0..dist.len() {
-                if mask[l] && !known[l] {
-                    dist[l] = exact[l];
-                    known[l] = true;
-                }
-            }
-            first = false;
-        }
-    }
-
-    fn close(&self, mut q: Vec<f64>) -> Result<Vec<f64>> {
-        let o = &self.options;
-        let robot = self.hand.robot();
-        let mut active: Vec<bool> = vec![true; self.data.closing.len()];
-        let mut dist = Vec::new();
-        let mut exact = Vec::new();
-        let mut near = vec![false; robot.links().len()];
-        let mut known = vec![false; robot.links().len()];
-        let mut moving = vec![false; robot.links().len()];
-        for _ in 0..o.max_close_iterations {
-            if !active.iter().any(|&x| x) {
-                break;
-            }
-            // Only the links of active closing dofs matter (the palm and stopped fingers are
-            // never read): query those alone.
-            moving.iter_mut().for_each(|x| *x = false);
-            for (c, _) in self.data.closing.iter().zip(&active).filter(|(_, &act)| act) {
-                for &l in &c.links {
-                    moving[l] = true;
-                }
-            }
-            // Distances to the object's convex hull are lower bounds of the true ones and far
-            // cheaper for non-convex meshes; near the hull, the exact distances are needed.
-            self.hull_world.selected_link_distances_into(self.robot, &q, &moving, &mut dist)?;
-            if !self.convex {
-                let any_near = moving.iter().zip(&dist).any(|(&m, &d)| m && d <= HULL_SWITCH_DISTANCE);
-                if any_near {
-                    self.refine_exact(&q, &active, &mut dist, &mut known, &mut near, &mut exact)?;
-                }
-            }
-            for (c, act) in self.data.closing.iter().zip(active.iter_mut()) {
-                if !*act {
-                    continue;
-                }
-                let mut gap = f64::INFINITY;
-                let mut advance = f64::INFINITY;
-                for (&l, &r) in c.links.iter().zip(&c.speed_bounds) {
-                    gap = gap.min(dist[l]);
-                    advance = advance.min((dist[l] - 0.5 * o.touch_distance) / r);
-                }
-                if gap <= o.touch_distance {
-                    *act = false;
-                    continue;
-                }
-                let ds = advance.max(o.min_close_step);
-                let (lo, hi) = robot.dof_limits(c.dof);
-                let next = (q[c.dof] + c.velocity.signum() * ds).clamp(lo, hi);
-                if next == q[c.dof] {
-                    *act = false;
-                }
-                q[c.dof] = next;
-            }
-        }
-        Ok(q)
     }
 
     fn collect(&self, palm: Isometry3<f64>, q: Vec<f64>, raw: &[CoreContact], retraction: f64) -> GraspEvaluation {

@@ -266,12 +266,11 @@ impl GraspQuality {
         }
         if options.compute_hull && (report.force_closure || !hull_if_closure) {
             let coords: Vec<f64> = wrenches.iter().flat_map(|w| w.iter().copied()).collect();
-            match ConvexHull::from_flat(6, &coords, &options.hull) {
+            match ConvexHull::summary_flat(6, &coords, &options.hull, &[0.0; 6]) {
                 Ok(hull) => {
-                    let depth = hull.depth(&[0.0; 6]);
-                    report.epsilon = if depth > options.tolerance { depth } else { 0.0 };
-                    report.volume = hull.volume();
-                    report.hull_facets = hull.num_facets();
+                    report.epsilon = if hull.depth > options.tolerance { hull.depth } else { 0.0 };
+                    report.volume = hull.volume;
+                    report.hull_facets = hull.facets;
                 }
                 Err(GraspError::DegenerateHull { affine_rank, .. }) => {
                     report.wrench_dimension = affine_rank;

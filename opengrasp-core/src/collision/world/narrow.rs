@@ -51,9 +51,10 @@ pub(super) fn intersects_placed(a: Placed<'_>, b: Placed<'_>) -> bool {
 /// [`distance`] when it is below `bound`, `None` otherwise (or for unsupported pairs). When
 /// either shape has a hull, the hulls' distance (a lower bound) is computed first and the
 /// exact query is skipped if it already reaches `bound`. The value returned is always the
-/// exact distance.
+/// exact distance. With an infinite `bound` nothing can be ruled out, so the hulls are not
+/// queried (the first query of a branch-and-bound search, or one link's only part).
 pub(super) fn distance_below(a: Placed<'_>, b: Placed<'_>, bound: f64) -> Option<f64> {
-    if a.hull.is_some() || b.hull.is_some() {
+    if (a.hull.is_some() || b.hull.is_some()) && bound < f64::INFINITY {
         if let Some(lb) = distance(a.pose, a.outer(), b.pose, b.outer()) {
             if lb >= bound {
                 return None;

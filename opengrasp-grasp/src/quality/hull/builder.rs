@@ -450,6 +450,37 @@ impl<'a, D: Dim> Builder<'a, D> {
         Ok(())
     }
 
+    /// Volume of the pyramid over facet `f` from the interior point, on the original
+    /// (un-joggled) points; `m` is `d × d` scratch.
+    #[inline]
+    fn pyramid_volume(&self, f: usize, original: &[f64], m: &mut [f64], factorial: f64) -> f64 {
+        let d = self.dim.n();
+        let vs = &self.s.verts[f * d..][..d];
+        let center = &self.center[..d];
+        for (row, &v) in m.chunks_exact_mut(d).zip(vs) {
+            for ((x, o), c) in row[..d].iter_mut().zip(&original[v as usize * d..][..d]).zip(center) {
+                *x = o - c;
+            }
+        }
+        if d == 6 { determinant6(m) } else { determinant(d, m) }.abs() / factorial
+    }
+
+    /// The depth of `point`, the volume and the facet count of the hull [`Builder::finish`]
+    /// would give, bit for bit (same facets in the same order, same arithmetic), without
+    /// copying the facets out.
+    pub(super) fn summary(self, original: &[f64], point: &[f64]) -> super::HullSummary {
+        let d = self.dim.n();
+        let mut m = vec![0.0; d * d];
+        let factorial: f64 = (1..=d).map(|k| k as f64).product();
+        let (mut depth, mut volume, mut facets) = (f64::INFINITY, 0.0, 0);
+        for f in (0..self.s.alive.len()).filter(|&f| self.s.alive[f]) {
+            depth = f64::min(depth, self.s.offsets[f] - dot(&self.s.normals[f * d..][..d], point));
+            volume += self.pyramid_volume(f, original, &mut m, factorial);
+            facets += 1;
+        }
+        super::HullSummary { depth, volume, facets }
+    }
+
     /// The hull of the original (un-joggled) points with this builder's facets.
     pub(super) fn finish(mut self, original: &[f64], joggle: f64, attempts: usize) -> ConvexHull {
         let d = self.dim.n();
@@ -466,13 +497,7 @@ impl<'a, D: Dim> Builder<'a, D> {
             facet_vertices.extend(vs.iter().map(|&v| v as usize));
             normals.extend_from_slice(&s.normals[f * d..][..d]);
             offsets.push(s.offsets[f]);
-            let center = &self.center[..d];
-            for (row, &v) in m.chunks_exact_mut(d).zip(vs) {
-                for ((x, o), c) in row[..d].iter_mut().zip(&original[v as usize * d..][..d]).zip(center) {
-                    *x = o - c;
-                }
-            }
-            volume += if d == 6 { determinant6(&m) } else { determinant(d, &mut m) }.abs() / factorial;
+            volume += self.pyramid_volume(f, original, &mut m, factorial);
         }
         let mut is_vertex = vec![false; original.len() / d];
         facet_vertices.iter().for_each(|&v| is_vertex[v] = true);

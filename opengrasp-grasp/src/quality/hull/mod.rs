@@ -148,48 +148,36 @@ impl ConvexHull {
     }
 
     fn from_flat_with(dim: usize, coords: &[f64], options: &HullOptions, reference: bool) -> Result<Self> {
-        if dim < 2 || coords.len() % dim != 0 {
-            return Err(GraspError::InvalidParameter {
-                name: "coords",
-                reason: format!("{} coordinates do not form points of dimension {dim} (dim ≥ 2)", coords.len()),
-            });
-        }
-        crate::error::ensure_finite("hull points", coords.iter().copied())?;
-        let n = coords.len() / dim;
-        let scale = coords.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-        // Drop exact duplicates (they would become near-coincident points after joggling).
-        let mut unique: Vec<usize> = Vec::with_capacity(n);
-        for i in 0..n {
-            let p = &coords[i * dim..(i + 1) * dim];
-            if !unique.iter().any(|&j| &coords[j * dim..(j + 1) * dim] == p) {
-                unique.push(i);
-            }
-        }
-        let simplex = initial_simplex(dim, coords, &unique, scale)?;
-
-        let mut joggle = options.joggle;
-        let mut last_reason = String::new();
-        let mut jog = vec![0.0; coords.len()];
-        for attempt in 0..options.max_attempts {
-            let mut rng = ChaCha8Rng::seed_from_u64(options.seed.wrapping_add(attempt as u64));
-            let amp = joggle * scale;
-            for (j, &c) in jog.iter_mut().zip(coords) {
-                *j = c + amp * (2.0 * rng.random::<f64>() - 1.0);
-            }
-            let built = if reference {
-                Reference::run(dim, &jog, &unique, &simplex, scale).map(|b| b.finish(coords, amp, attempt + 1))
+        build(dim, coords, options, |jog, unique, simplex, scale, amp, attempt| {
+            if reference {
+                Reference::run(dim, jog, unique, simplex, scale).map(|b| b.finish(coords, amp, attempt))
             } else if dim == 6 {
-                Builder::run(Fixed::<6>, &jog, &unique, &simplex, scale).map(|b| b.finish(coords, amp, attempt + 1))
+                Builder::run(Fixed::<6>, jog, unique, simplex, scale).map(|b| b.finish(coords, amp, attempt))
             } else {
-                Builder::run(Dynamic(dim), &jog, &unique, &simplex, scale).map(|b| b.finish(coords, amp, attempt + 1))
-            };
-            match built {
-                Ok(hull) => return Ok(hull),
-                Err(reason) => last_reason = reason,
+                Builder::run(Dynamic(dim), jog, unique, simplex, scale).map(|b| b.finish(coords, amp, attempt))
             }
-            joggle *= 10.0;
+        })
+    }
+
+    /// The depth of `point` ([`ConvexHull::depth`]), the volume and the facet count of the hull
+    /// of `coords` (flat, `dim` per point), without keeping the hull: the same construction as
+    /// [`ConvexHull::from_flat`] and bit for bit the same three numbers, minus the copies of
+    /// the facets into a [`ConvexHull`] (the grasp metrics need only these numbers).
+    ///
+    /// # Errors
+    /// As [`ConvexHull::from_flat`]; [`GraspError::DimensionMismatch`] if `point` does not
+    /// have `dim` coordinates.
+    pub fn summary_flat(dim: usize, coords: &[f64], options: &HullOptions, point: &[f64]) -> Result<HullSummary> {
+        if point.len() != dim {
+            return Err(GraspError::DimensionMismatch { index: 0, expected: dim, actual: point.len() });
         }
-        Err(GraspError::HullFailed { dimension: dim, attempts: options.max_attempts, reason: last_reason })
+        build(dim, coords, options, |jog, unique, simplex, scale, _, _| {
+            if dim == 6 {
+                Builder::run(Fixed::<6>, jog, unique, simplex, scale).map(|b| b.summary(coords, point))
+            } else {
+                Builder::run(Dynamic(dim), jog, unique, simplex, scale).map(|b| b.summary(coords, point))
+            }
+        })
     }
 
     /// Dimension of the space.
@@ -255,6 +243,62 @@ impl ConvexHull {
     pub fn contains(&self, point: &[f64], tolerance: f64) -> bool {
         self.depth(point) >= -tolerance
     }
+}
+
+/// Depth of a point, volume and facet count of a hull ([`ConvexHull::summary_flat`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HullSummary {
+    /// Signed distance of the point inside the hull ([`ConvexHull::depth`]).
+    pub depth: f64,
+    /// Volume ([`ConvexHull::volume`]).
+    pub volume: f64,
+    /// Number of facets ([`ConvexHull::num_facets`]).
+    pub facets: usize,
+}
+
+/// The checks, duplicate removal, initial simplex and joggle-and-retry loop shared by every
+/// hull construction; `attempt` builds on one joggle.
+fn build<T>(
+    dim: usize,
+    coords: &[f64],
+    options: &HullOptions,
+    mut build_once: impl FnMut(&[f64], &[usize], &[usize], f64, f64, usize) -> std::result::Result<T, String>,
+) -> Result<T> {
+    if dim < 2 || coords.len() % dim != 0 {
+        return Err(GraspError::InvalidParameter {
+            name: "coords",
+            reason: format!("{} coordinates do not form points of dimension {dim} (dim ≥ 2)", coords.len()),
+        });
+    }
+    crate::error::ensure_finite("hull points", coords.iter().copied())?;
+    let n = coords.len() / dim;
+    let scale = coords.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    // Drop exact duplicates (they would become near-coincident points after joggling).
+    let mut unique: Vec<usize> = Vec::with_capacity(n);
+    for i in 0..n {
+        let p = &coords[i * dim..(i + 1) * dim];
+        if !unique.iter().any(|&j| &coords[j * dim..(j + 1) * dim] == p) {
+            unique.push(i);
+        }
+    }
+    let simplex = initial_simplex(dim, coords, &unique, scale)?;
+
+    let mut joggle = options.joggle;
+    let mut last_reason = String::new();
+    let mut jog = vec![0.0; coords.len()];
+    for attempt in 0..options.max_attempts {
+        let mut rng = ChaCha8Rng::seed_from_u64(options.seed.wrapping_add(attempt as u64));
+        let amp = joggle * scale;
+        for (j, &c) in jog.iter_mut().zip(coords) {
+            *j = c + amp * (2.0 * rng.random::<f64>() - 1.0);
+        }
+        match build_once(&jog, &unique, &simplex, scale, amp, attempt + 1) {
+            Ok(built) => return Ok(built),
+            Err(reason) => last_reason = reason,
+        }
+        joggle *= 10.0;
+    }
+    Err(GraspError::HullFailed { dimension: dim, attempts: options.max_attempts, reason: last_reason })
 }
 
 #[inline]

@@ -1,0 +1,364 @@
+//! Closing the fingers by conservative advancement (see the module docs of [`super`]), with
+//! per-link lower bounds that spare the distance queries which cannot change a step.
+//!
+//! Each iteration needs, per active closing dof, the step `min_l (d_l − touch/2) / R_l` over
+//! its links and whether `min_l d_l ≤ touch`; `d_l` is the distance to the object's convex
+//! hull, or the exact distance once a link is within [`HULL_SWITCH_DISTANCE`] of the hull of a
+//! non-convex object. Both are minima, so a link whose *lower bound* already puts it above the
+//! minimum of the links queried cannot change them, and a link whose bound exceeds the touch
+//! distance cannot stop its finger. The lower bounds are:
+//! - the last distance known minus `Σ_c R_{c,l} |Δq_c|` (the speed bounds of the closing dofs
+//!   that moved the link since): the distance to a fixed set drops by at most the largest
+//!   displacement of the link's points;
+//! - for exact distances also the hull distance (the object lies inside its hull).
+//!
+//! [`GraspEvaluator::refine`] queries the links in rounds, most limiting bound first, until no
+//! unqueried link's bound is below its dof's minimum. Every step and stop decision is therefore
+//! the one that querying every link gives, bit for bit (the bounds only decide which links
+//! need a query); `tests::lower_bounds_leave_every_closing_bit_identical` checks this
+//! against the loop that queries every link.
+
+use opengrasp_core::collision::CollisionWorld;
+
+use super::{GraspEvaluator, HULL_SWITCH_DISTANCE};
+use crate::error::Result;
+
+/// Subtracted from every propagated lower bound (m): room for the rounding of the distance
+/// queries (far below the 20 % slack of the speed bounds).
+const BOUND_MARGIN: f64 = 1e-9;
+
+/// Per-link buffers of [`GraspEvaluator::close`], reused across its iterations.
+struct Buffers {
+    /// Hull distance per link: queried this iteration, or a lower bound.
+    hull: Vec<f64>,
+    /// Distance per link the step reads: exact, hull or a lower bound of them.
+    dist: Vec<f64>,
+    /// Lower bound of each link's hull distance at the current configuration.
+    hull_lower: Vec<f64>,
+    /// Lower bound of each link's exact distance at the current configuration.
+    exact_lower: Vec<f64>,
+    /// Bound on how far each link's distances dropped over the last step.
+    drop: Vec<f64>,
+    known: Vec<bool>,
+    mask: Vec<bool>,
+    query: Vec<f64>,
+}
+
+impl GraspEvaluator {
+    /// Replaces the lower bounds in `dist` by distances from `world` wherever the closing
+    /// step reads them: afterwards every active closing dof gets exactly the step and stop
+    /// decision it would get from `world`'s distances for all its links.
+    ///
+    /// Every link with `dist ≤ force` is queried (it may stop its finger, or need the exact
+    /// distance); for a dof with none of those, its most limiting link by bound. Then, in
+    /// rounds, every unqueried link whose bound on the step `(d − touch/2) / R` is below the
+    /// smallest step of the queried links of its dof. A link never queried keeps its bound,
+    /// which is above `force` and never lowers its dof's minimum. `known` marks the queried
+    /// links.
+    fn refine(
+        &self,
+        world: &CollisionWorld,
+        q: &[f64],
+        active: &[bool],
+        force: f64,
+        dist: &mut [f64],
+        b: &mut Buffers,
+    ) -> Result<()> {
+        let half_touch = 0.5 * self.options.touch_distance;
+        b.known.iter_mut().for_each(|k| *k = false);
+        let mut first = true;
+        loop {
+            b.mask.iter_mut().for_each(|m| *m = false);
+            let mut any = false;
+            for (c, _) in self.data.closing.iter().zip(active).filter(|(_, &act)| act) {
+                let bound = |l: usize, r: f64| (dist[l] - half_touch) / r;
+                let links = || c.links.iter().copied().zip(c.speed_bounds.iter().copied());
+                if first {
+                    let mut forced = false;
+                    for (l, _) in links().filter(|&(l, _)| dist[l] <= force) {
+                        b.mask[l] = true;
+                        forced = true;
+                    }
+                    if !forced {
+                        let pick = links().min_by(|x, y| bound(x.0, x.1).total_cmp(&bound(y.0, y.1)));
+                        if let Some((l, _)) = pick {
+                            b.mask[l] = true;
+                        }
+                    }
+                    any = true;
+                } else {
+                    let current =
+                        links().filter(|&(l, _)| b.known[l]).map(|(l, r)| bound(l, r)).fold(f64::INFINITY, f64::min);
+                    for (l, r) in links() {
+                        if !b.known[l] && bound(l, r) < current {
+                            b.mask[l] = true;
+                            any = true;
+                        }
+                    }
+                }
+            }
+            if !any {
+                return Ok(());
+            }
+            world.selected_link_distances_into(self.robot, q, &b.mask, &mut b.query)?;
+            for (((d, known), &m), &x) in dist.iter_mut().zip(b.known.iter_mut()).zip(&b.mask).zip(&b.query) {
+                if m && !*known {
+                    *d = x;
+                    *known = true;
+                }
+            }
+            first = false;
+        }
+    }
+
+    /// Closes the fingers from `q` (see the module docs): returns the closed configuration.
+    pub(super) fn close(&self, mut q: Vec<f64>) -> Result<Vec<f64>> {
+        let o = &self.options;
+        let robot = self.hand.robot();
+        let n = robot.links().len();
+        let mut active: Vec<bool> = vec![true; self.data.closing.len()];
+        // Nothing is known before the first query.
+        let mut b = Buffers {
+            hull: vec![f64::NEG_INFINITY; n],
+            dist: vec![f64::NEG_INFINITY; n],
+            hull_lower: vec![f64::NEG_INFINITY; n],
+            exact_lower: vec![f64::NEG_INFINITY; n],
+            drop: vec![0.0; n],
+            known: vec![false; n],
+            mask: vec![false; n],
+            query: Vec::new(),
+        };
+        // A link that may stop its finger, or (non-convex objects) need its exact distance, is
+        // always given its hull distance.
+        let force = if self.convex { o.touch_distance } else { HULL_SWITCH_DISTANCE };
+        for _ in 0..o.max_close_iterations {
+            if !active.iter().any(|&x| x) {
+                break;
+            }
+            // Distances to the object's convex hull are lower bounds of the exact ones and far
+            // cheaper for non-convex meshes; near the hull, the exact distances are needed.
+            // Only the links of active closing dofs are read (the palm and stopped fingers
+            // never are), and of those only the ones whose bounds could matter.
+            let mut hull = std::mem::take(&mut b.hull);
+            hull.clone_from(&b.hull_lower);
+            self.refine(&self.hull_world, &q, &active, force, &mut hull, &mut b)?;
+            b.hull = hull;
+            let near = !self.convex
+                && self
+                    .data
+                    .closing
+                    .iter()
+                    .zip(&active)
+                    .filter(|(_, &act)| act)
+                    .any(|(c, _)| c.links.iter().any(|&l| b.hull[l] <= HULL_SWITCH_DISTANCE));
+            let mut dist = std::mem::take(&mut b.dist);
+            if near {
+                for ((d, h), e) in dist.iter_mut().zip(&b.hull).zip(&b.exact_lower) {
+                    *d = h.max(*e);
+                }
+                self.refine(&self.world, &q, &active, o.touch_distance, &mut dist, &mut b)?;
+            } else {
+                dist.clone_from(&b.hull);
+            }
+            b.drop.iter_mut().for_each(|x| *x = 0.0);
+            for (c, act) in self.data.closing.iter().zip(active.iter_mut()) {
+                if !*act {
+                    continue;
+                }
+                let mut gap = f64::INFINITY;
+                let mut advance = f64::INFINITY;
+                for (&l, &r) in c.links.iter().zip(&c.speed_bounds) {
+                    gap = gap.min(dist[l]);
+                    advance = advance.min((dist[l] - 0.5 * o.touch_distance) / r);
+                }
+                if gap <= o.touch_distance {
+                    *act = false;
+                    continue;
+                }
+                let ds = advance.max(o.min_close_step);
+                let (lo, hi) = robot.dof_limits(c.dof);
+                let next = (q[c.dof] + c.velocity.signum() * ds).clamp(lo, hi);
+                if next == q[c.dof] {
+                    *act = false;
+                }
+                let moved = (next - q[c.dof]).abs();
+                q[c.dof] = next;
+                for (&l, &r) in c.links.iter().zip(&c.speed_bounds) {
+                    b.drop[l] += r * moved;
+                }
+            }
+            // The bounds at the new configuration (a link that did not move keeps its
+            // distances exactly: same pose, same query).
+            let lower = |x: f64, drop: f64| if drop == 0.0 { x } else { x - drop - BOUND_MARGIN };
+            let links = b.exact_lower.iter_mut().zip(b.hull_lower.iter_mut()).zip(&b.hull).zip(&b.drop).zip(&dist);
+            for ((((exact, hull_lower), &hull), &drop), &d) in links {
+                let known = if near { exact.max(d) } else { *exact };
+                *exact = lower(known.max(hull), drop);
+                *hull_lower = lower(hull, drop);
+            }
+            b.dist = dist;
+        }
+        Ok(q)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use opengrasp_assets::{hands, objects};
+
+    use super::super::{EvaluationStatus, EvaluatorOptions, GraspEvaluator};
+    use super::HULL_SWITCH_DISTANCE;
+    use crate::planners::{GraspPlanner, GraspRequest, MedialAxisPlanner, SurfaceNormalPlanner};
+
+    /// The exact refinement as it was before the lower bounds (hull distances as the only
+    /// bounds, every link within 5 mm of the hull queried).
+    fn refine_exact_oracle(
+        ev: &GraspEvaluator,
+        q: &[f64],
+        active: &[bool],
+        dist: &mut [f64],
+        known: &mut [bool],
+        mask: &mut [bool],
+        exact: &mut Vec<f64>,
+    ) {
+        let half_touch = 0.5 * ev.options.touch_distance;
+        known.iter_mut().for_each(|k| *k = false);
+        let mut first = true;
+        loop {
+            mask.iter_mut().for_each(|m| *m = false);
+            let mut any = false;
+            for (c, _) in ev.data.closing.iter().zip(active).filter(|(_, &act)| act) {
+                let bound = |l: usize, r: f64| (dist[l] - half_touch) / r;
+                let mut current = f64::INFINITY;
+                for (&l, &r) in c.links.iter().zip(&c.speed_bounds) {
+                    if known[l] || (first && dist[l] <= HULL_SWITCH_DISTANCE) {
+                        current = current.min(bound(l, r));
+                    }
+                }
+                if first {
+                    for &l in &c.links {
+                        if dist[l] <= HULL_SWITCH_DISTANCE {
+                            mask[l] = true;
+                            any = true;
+                        }
+                    }
+                }
+                if current == f64::INFINITY {
+                    // Nothing exact yet for this dof: start with its most limiting link.
+                    let pick = c
+                        .links
+                        .iter()
+                        .zip(&c.speed_bounds)
+                        .filter(|(&l, _)| !known[l])
+                        .min_by(|a, b| bound(*a.0, *a.1).total_cmp(&bound(*b.0, *b.1)));
+                    if let Some((&l, _)) = pick {
+                        mask[l] = true;
+                        any = true;
+                    }
+                } else if !first {
+                    for (&l, &r) in c.links.iter().zip(&c.speed_bounds) {
+                        if !known[l] && bound(l, r) < current {
+                            mask[l] = true;
+                            any = true;
+                        }
+                    }
+                }
+            }
+            if !any {
+                return;
+            }
+            ev.world.selected_link_distances_into(ev.robot, q, mask, exact).unwrap();
+            for l in 0..dist.len() {
+                if mask[l] && !known[l] {
+                    dist[l] = exact[l];
+                    known[l] = true;
+                }
+            }
+            first = false;
+        }
+    }
+
+    /// The closing loop as it was before the lower bounds: every link of every active dof is
+    /// queried at every iteration (the oracle of the test below).
+    fn close_querying_every_link(ev: &GraspEvaluator, mut q: Vec<f64>) -> Vec<f64> {
+        let o = &ev.options;
+        let robot = ev.hand.robot();
+        let n = robot.links().len();
+        let mut active = vec![true; ev.data.closing.len()];
+        let (mut dist, mut exact) = (Vec::new(), Vec::new());
+        let (mut near, mut known, mut moving) = (vec![false; n], vec![false; n], vec![false; n]);
+        for _ in 0..o.max_close_iterations {
+            if !active.iter().any(|&x| x) {
+                break;
+            }
+            moving.iter_mut().for_each(|x| *x = false);
+            for (c, _) in ev.data.closing.iter().zip(&active).filter(|(_, &act)| act) {
+                c.links.iter().for_each(|&l| moving[l] = true);
+            }
+            ev.hull_world.selected_link_distances_into(ev.robot, &q, &moving, &mut dist).unwrap();
+            if !ev.convex && moving.iter().zip(&dist).any(|(&m, &d)| m && d <= HULL_SWITCH_DISTANCE) {
+                refine_exact_oracle(ev, &q, &active, &mut dist, &mut known, &mut near, &mut exact);
+            }
+            for (c, act) in ev.data.closing.iter().zip(active.iter_mut()) {
+                if !*act {
+                    continue;
+                }
+                let gap = c.links.iter().map(|&l| dist[l]).fold(f64::INFINITY, f64::min);
+                let advance = c
+                    .links
+                    .iter()
+                    .zip(&c.speed_bounds)
+                    .map(|(&l, &r)| (dist[l] - 0.5 * o.touch_distance) / r)
+                    .fold(f64::INFINITY, f64::min);
+                if gap <= o.touch_distance {
+                    *act = false;
+                    continue;
+                }
+                let (lo, hi) = robot.dof_limits(c.dof);
+                let next = (q[c.dof] + c.velocity.signum() * advance.max(o.min_close_step)).clamp(lo, hi);
+                *act = next != q[c.dof];
+                q[c.dof] = next;
+            }
+        }
+        q
+    }
+
+    /// Closing with lower bounds (fewer queries) ends in the very configuration, bit for bit,
+    /// that querying every link gives: on both stock hands, a convex object (salt can) and
+    /// non-convex ones (cups, detergent bottle), with both reference planners' candidates.
+    #[test]
+    fn lower_bounds_leave_every_closing_bit_identical() {
+        let mut compared = 0;
+        let mut moved_dofs = 0;
+        for hand in [hands::barrett(), hands::armar3_hand()] {
+            for name in ["salt_can", "white_cup", "detergent_bottle", "green_cup"] {
+                let object = objects::by_name(name).unwrap();
+                let mut ev = GraspEvaluator::new(&hand, &object, EvaluatorOptions::default()).unwrap();
+                let info = ev.hand_info().clone();
+                let request = GraspRequest { hand: &info, object: &object.mesh, seed: 0 };
+                let planners: [&dyn GraspPlanner; 2] =
+                    [&MedialAxisPlanner::default(), &SurfaceNormalPlanner::default()];
+                for planner in planners {
+                    let all = planner.plan(&request).unwrap();
+                    for candidate in all.iter().step_by((all.len() / 6).max(1)) {
+                        let evaluation = ev.evaluate(candidate).unwrap();
+                        if evaluation.status != EvaluationStatus::Closed {
+                            continue;
+                        }
+                        let (pi, q_open) = ev.preshape(&candidate.preshape).unwrap();
+                        let rfp = ev.data.root_from_palm[pi];
+                        ev.place(&evaluation.hand_pose, &rfp).unwrap();
+                        let reference = close_querying_every_link(&ev, q_open.clone());
+                        let bits = |q: &[f64]| q.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                        assert_eq!(bits(&evaluation.q), bits(&reference), "{name}, candidate {candidate:?}");
+                        moved_dofs += q_open.iter().zip(&reference).filter(|(a, b)| a != b).count();
+                        compared += 1;
+                    }
+                }
+            }
+        }
+        // The comparison covers real closings, not hands that never moved.
+        assert!(compared >= 60, "only {compared} closed candidates compared");
+        assert!(moved_dofs >= 2 * compared, "only {moved_dofs} closing dofs moved in {compared} closings");
+    }
+}
