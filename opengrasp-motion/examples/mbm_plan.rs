@@ -27,8 +27,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let sets: Vec<LoadedProblemSet> =
         problem_set::load(dir)?.iter().map(LoadedProblemSet::new).collect::<Result<_, _>>()?;
     let lanes = args.next().is_some_and(|a| a == "lanes");
-    let dynamic_domain: Option<f64> = args.next().map(|s| s.parse()).transpose()?;
-    let options = RrtConnectOptions { dynamic_domain, ..RrtConnectOptions::default() };
+    let dynamic_domain: Option<f64> = args.next().and_then(|s| s.parse().ok());
+    let mut options = RrtConnectOptions { dynamic_domain, ..RrtConnectOptions::default() };
+    if let Some(range) = args.next() {
+        options.range = range.parse()?;
+    }
     let layered = sets[0].layered_sphere_model(GreedyCoverOptions::default())?.with_batched_checks(lanes);
     let model = PlanningModel::Spheres(std::sync::Arc::new(layered));
     for set in sets.iter().filter(|s| s.name().contains(&filter)) {
