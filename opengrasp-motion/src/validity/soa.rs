@@ -96,7 +96,15 @@ impl ObstacleFrame {
 /// The smallest `f(i)` for `i < n` (∞ for none): a branch-free fold the compiler vectorises.
 #[inline(always)]
 fn least(n: usize, f: impl Fn(usize) -> f64) -> f64 {
-    (0..n).fold(f64::INFINITY, |acc, i| acc.min(f(i)))
+    // `v < acc` rather than `f64::min`: one vector minimum (a NaN `v` is skipped either way).
+    (0..n).fold(f64::INFINITY, |acc, i| {
+        let v = f(i);
+        if v < acc {
+            v
+        } else {
+            acc
+        }
+    })
 }
 
 #[inline(always)]
