@@ -2,12 +2,13 @@
 //! sphere model: a fixed workload (every problem of the sets whose name contains FILTER, seeds
 //! `0..SEEDS`, time limit LIMIT s, default 10; `lanes` as a fourth argument checks with
 //! `SphereWorld::with_batched_checks` (anything else: one state at a time), a fifth sets
-//! `RrtConnectOptions::dynamic_domain`) for instruction counts (`perf stat`, `valgrind --tool=callgrind`), which stay
+//! `RrtConnectOptions::dynamic_domain` (not a number, e.g. `none`: off), a sixth
+//! `RrtConnectOptions::range`) for instruction counts (`perf stat`, `valgrind --tool=callgrind`), which stay
 //! comparable on a loaded machine where timings do not. Prints the solved runs, the states
 //! checked and the planning time.
 //!
 //! ```sh
-//! cargo run --release -p opengrasp-motion --example mbm_plan -- cage 20 10 [lanes|single [RADIUS]]
+//! cargo run --release -p opengrasp-motion --example mbm_plan -- cage 20 10 [lanes|single [RADIUS|none [RANGE]]]
 //! ```
 
 use std::time::{Duration, Instant};
