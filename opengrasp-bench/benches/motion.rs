@@ -5,7 +5,8 @@
 //! `opengrasp-motion/tests/data/mbm` (`mbm/<set>/...`: on the Panda's meshes with the exact
 //! checker, and on its guaranteed greedy sphere cover: `rrt_connect_spheres`,
 //! `state_check_spheres`, `state_check_spheres_batch64`, `motion_check_spheres`, each also
-//! `_lanes` with `SphereWorld::with_batched_checks` and `_one_by_one` through the trait's
+//! `_lanes` with `SphereWorld::with_batched_checks`, `_uncertified` with
+//! `SphereWorld::with_certified_motions(false)` and `_one_by_one` through the trait's
 //! one-state defaults); and certified post-processing (`postprocess/scene1`,
 //! `postprocess/scene1_exact`, `postprocess/clean_table_episode`).
 //!
@@ -90,11 +91,19 @@ fn mbm_panda(c: &mut Criterion) {
     let sets = load_problem_sets(dir).expect("vendored MBM sets");
     let spheres_model = Arc::new(sets[0].layered_sphere_model(GreedyCoverOptions::default()).expect("cover"));
     let model = PlanningModel::Spheres(spheres_model.clone());
+    // The same model checking every state of a motion (no certificates): the reference.
+    let uncertified = PlanningModel::Spheres(Arc::new(spheres_model.as_ref().clone().with_certified_motions(false)));
     for set in &sets {
         let instances: Vec<_> =
             (0..set.len()).map(|i| set.instance_with(i, &model).expect("problem instance")).collect();
+        let uncertified: Vec<_> =
+            (0..set.len()).map(|i| set.instance_with(i, &uncertified).expect("problem instance")).collect();
         let mut planner = RrtConnect::default();
-        for (row, on_spheres) in [("rrt_connect_plan", false), ("rrt_connect_spheres", true)] {
+        for (row, on_spheres, instances) in [
+            ("rrt_connect_plan", false, &instances),
+            ("rrt_connect_spheres", true, &instances),
+            ("rrt_connect_spheres_uncertified", true, &uncertified),
+        ] {
             let mut k = 0usize;
             c.bench_function(&format!("mbm/{}/{row}", set.name()), |b| {
                 b.iter(|| {
@@ -135,7 +144,8 @@ fn mbm_panda(c: &mut Criterion) {
             b.iter(|| states.chunks(limits.len()).filter(|q| spheres.is_valid(std::hint::black_box(q))).count())
         });
         // 32 motions of length 0.5 (the planner's range) from random states, at step 0.02:
-        // batched coarse to fine, and one state at a time in the same order.
+        // certified (default), every state, batched coarse to fine, and one state at a time in
+        // the same order.
         let motions: Vec<(Vec<f64>, Vec<f64>)> = states
             .chunks(limits.len())
             .zip(states.chunks(limits.len()).skip(32))
@@ -145,8 +155,10 @@ fn mbm_panda(c: &mut Criterion) {
             })
             .collect();
         let one_by_one = OneByOne(spheres);
+        let every_state = set.sphere_world(0, &spheres_model).expect("sphere world").with_certified_motions(false);
         for (row, checker) in [
             ("motion_check_spheres", spheres),
+            ("motion_check_spheres_uncertified", &every_state),
             ("motion_check_spheres_lanes", &lanes),
             ("motion_check_spheres_one_by_one", &one_by_one),
         ] {

@@ -2,12 +2,13 @@
 //! sphere model: a fixed workload (every problem of the sets whose name contains FILTER, seeds
 //! `0..SEEDS`, time limit LIMIT s, default 10; `lanes` as a fourth argument checks with
 //! `SphereWorld::with_batched_checks` (anything else: one state at a time), a fifth sets
-//! `RrtConnectOptions::dynamic_domain`) for instruction counts (`perf stat`, `valgrind --tool=callgrind`), which stay
+//! `RrtConnectOptions::dynamic_domain` (not a number, e.g. `none`: off), a sixth
+//! `RrtConnectOptions::range`) for instruction counts (`perf stat`, `valgrind --tool=callgrind`), which stay
 //! comparable on a loaded machine where timings do not. Prints the solved runs, the states
 //! checked and the planning time.
 //!
 //! ```sh
-//! cargo run --release -p opengrasp-motion --example mbm_plan -- cage 20 10 [lanes|single [RADIUS]]
+//! cargo run --release -p opengrasp-motion --example mbm_plan -- cage 20 10 [lanes|single [RADIUS|none [RANGE]]]
 //! ```
 
 use std::time::{Duration, Instant};
@@ -27,8 +28,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let sets: Vec<LoadedProblemSet> =
         problem_set::load(dir)?.iter().map(LoadedProblemSet::new).collect::<Result<_, _>>()?;
     let lanes = args.next().is_some_and(|a| a == "lanes");
-    let dynamic_domain: Option<f64> = args.next().map(|s| s.parse()).transpose()?;
-    let options = RrtConnectOptions { dynamic_domain, ..RrtConnectOptions::default() };
+    let dynamic_domain: Option<f64> = args.next().and_then(|s| s.parse().ok());
+    let mut options = RrtConnectOptions { dynamic_domain, ..RrtConnectOptions::default() };
+    if let Some(range) = args.next() {
+        options.range = range.parse()?;
+    }
     let layered = sets[0].layered_sphere_model(GreedyCoverOptions::default())?.with_batched_checks(lanes);
     let model = PlanningModel::Spheres(std::sync::Arc::new(layered));
     for set in sets.iter().filter(|s| s.name().contains(&filter)) {

@@ -5,50 +5,20 @@
 
 use std::sync::{Arc, OnceLock};
 
-use nalgebra::{Isometry3, UnitQuaternion, Vector3};
-use opengrasp_core::model::{samples, JointGroup, Robot};
+mod arm_world;
+
+use opengrasp_core::model::{JointGroup, Robot};
 use opengrasp_motion::problem_set::{self, LoadedProblemSet};
 use opengrasp_motion::validity::cover::GreedyCoverOptions;
-use opengrasp_motion::validity::{
-    CountingChecker, MeshCover, ObstacleBox, ObstaclePrimitive, ObstacleShape, OneByOne, SphereWorld,
-    StateValidityChecker,
-};
+use opengrasp_motion::validity::{CountingChecker, OneByOne, SphereWorld, StateValidityChecker};
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-/// The 7-DoF sample arm among a box, a ball, a cylinder and a capsule (every closed-form
-/// shape), checked with its plain cover and with a coarse layer (the meshes' bounding boxes)
-/// tried first.
+/// The sample arm among every closed-form shape, plain and layered.
 fn arm_worlds() -> &'static (Arc<Robot>, JointGroup, SphereWorld, SphereWorld) {
     static WORLDS: OnceLock<(Arc<Robot>, JointGroup, SphereWorld, SphereWorld)> = OnceLock::new();
-    WORLDS.get_or_init(|| {
-        let robot = Arc::new(samples::seven_dof_arm().unwrap());
-        let group = robot.group("arm").unwrap().clone();
-        let tilt = UnitQuaternion::from_euler_angles(0.3, -0.4, 0.7);
-        let at = |x: f64, y: f64, z: f64| Isometry3::from_parts(Vector3::new(x, y, z).into(), tilt);
-        let boxes = vec![ObstacleBox::new("box", at(0.5, 0.0, 0.4), Vector3::new(0.2, 0.5, 0.1))];
-        let others = [
-            ObstaclePrimitive::new("ball", at(0.0, 0.5, 0.6), ObstacleShape::Sphere { radius: 0.15 }),
-            ObstaclePrimitive::new(
-                "can",
-                at(-0.4, 0.0, 0.5),
-                ObstacleShape::Cylinder { radius: 0.1, half_length: 0.3 },
-            ),
-            ObstaclePrimitive::new(
-                "pill",
-                at(0.0, -0.5, 0.8),
-                ObstacleShape::Capsule { radius: 0.08, half_length: 0.2 },
-            ),
-        ];
-        let world =
-            SphereWorld::new(robot.clone(), group.clone(), robot.home_configuration(), Isometry3::identity(), boxes)
-                .unwrap()
-                .with_obstacles(others)
-                .unwrap();
-        let layered = world.clone().with_coarse_cover(MeshCover::default()).unwrap();
-        (robot, group, world, layered)
-    })
+    WORLDS.get_or_init(arm_world::arm_among_shapes)
 }
 
 fn random_q(rng: &mut ChaCha8Rng, limits: &[(f64, f64)]) -> Vec<f64> {

@@ -113,6 +113,18 @@ impl Chain {
         self.links[l.0]
     }
 
+    /// The moving frames from frame `f` down to the world (`f` first, frame 0 excluded), each
+    /// with the index of the group value that drives it.
+    pub fn lineage(&self, mut f: usize) -> Vec<(usize, usize)> {
+        let mut out = Vec::new();
+        while f != 0 {
+            let frame = &self.frames[f - 1];
+            out.push((f, frame.dof));
+            f = frame.parent;
+        }
+        out
+    }
+
     /// The world poses of every frame for group values `q` into `out` (frame 0 the identity).
     #[inline]
     pub fn frames(&self, q: &[f64], out: &mut Vec<Mat34>) {

@@ -64,33 +64,47 @@ impl ObstacleFrame {
         }
     }
 
-    /// True if some sphere `(xs[i], ys[i], zs[i], rs[i])` touches the obstacle. Branch-free
-    /// per shape, so each loop vectorises.
+    /// True if some sphere `(xs[i], ys[i], zs[i], rs[i])` touches the obstacle.
     fn any_hit(&self, xs: &[f64], ys: &[f64], zs: &[f64], rs: &[f64]) -> bool {
+        self.min_gap(xs, ys, zs, rs) <= 0.0
+    }
+
+    /// The smallest `signed distance − radius` over the spheres `(xs[i], ys[i], zs[i], rs[i])`
+    /// (∞ for none): at most zero exactly when one touches the obstacle (`d − r ≤ 0 ⇔ d ≤ r`
+    /// in IEEE arithmetic). Branch-free per shape, so each loop vectorises.
+    fn min_gap(&self, xs: &[f64], ys: &[f64], zs: &[f64], rs: &[f64]) -> f64 {
         let n = xs.len().min(ys.len()).min(zs.len()).min(rs.len());
         let (xs, ys, zs, rs) = (&xs[..n], &ys[..n], &zs[..n], &rs[..n]);
         match self.shape {
             ObstacleShape::Box { half_extents: h } => {
                 let h = [h.x, h.y, h.z];
-                any(n, |i| box_distance(self.local(xs[i], ys[i], zs[i]), h) <= rs[i])
+                least(n, |i| box_distance(self.local(xs[i], ys[i], zs[i]), h) - rs[i])
             }
             ObstacleShape::Sphere { radius } => {
-                any(n, |i| sphere_distance(&self.t, radius, xs[i], ys[i], zs[i]) <= rs[i])
+                least(n, |i| sphere_distance(&self.t, radius, xs[i], ys[i], zs[i]) - rs[i])
             }
             ObstacleShape::Cylinder { radius, half_length } => {
-                any(n, |i| cylinder_distance(self.local(xs[i], ys[i], zs[i]), radius, half_length) <= rs[i])
+                least(n, |i| cylinder_distance(self.local(xs[i], ys[i], zs[i]), radius, half_length) - rs[i])
             }
             ObstacleShape::Capsule { radius, half_length } => {
-                any(n, |i| capsule_distance(self.local(xs[i], ys[i], zs[i]), radius, half_length) <= rs[i])
+                least(n, |i| capsule_distance(self.local(xs[i], ys[i], zs[i]), radius, half_length) - rs[i])
             }
         }
     }
 }
 
-/// True if `f(i)` for some `i < n`: a branch-free fold the compiler vectorises.
+/// The smallest `f(i)` for `i < n` (∞ for none): a branch-free fold the compiler vectorises.
 #[inline(always)]
-fn any(n: usize, f: impl Fn(usize) -> bool) -> bool {
-    (0..n).fold(false, |acc, i| acc | f(i))
+fn least(n: usize, f: impl Fn(usize) -> f64) -> f64 {
+    // `v < acc` rather than `f64::min`: one vector minimum (a NaN `v` is skipped either way).
+    (0..n).fold(f64::INFINITY, |acc, i| {
+        let v = f(i);
+        if v < acc {
+            v
+        } else {
+            acc
+        }
+    })
 }
 
 #[inline(always)]
@@ -147,6 +161,10 @@ pub(super) struct Scratch {
     pub lane_coarse: LaneCentres,
     pub lane_q: Vec<Lanes>,
     pub order: Vec<usize>,
+    /// Buffers of the certified motion checks: `|Δq|` per step, and per test one bit per
+    /// state it is certified at.
+    pub per_step: Vec<f64>,
+    pub certified: Vec<u64>,
 }
 
 thread_local! {
@@ -306,20 +324,47 @@ impl SphereSoa {
 
     /// True if no sphere of link `k` touches obstacle `o`, clusters culled first.
     pub fn link_clear(&self, o: usize, k: usize, frames: &[Mat34], c: &mut Centres) -> bool {
+        self.link_gap(o, k, frames, c).is_some()
+    }
+
+    /// [`SphereSoa::link_clear`] with a lower bound: `None` if a sphere of link `k` touches
+    /// obstacle `o`, else `Some(g)` with `0 ≤ g ≤` every sphere's distance to it (culled
+    /// clusters give the gap of their bounding sphere).
+    pub fn link_gap(&self, o: usize, k: usize, frames: &[Mat34], c: &mut Centres) -> Option<f64> {
         self.ensure(frames, c, k);
         let o = &self.obstacles[o];
         let (cs, ce) = self.link_clusters[k];
+        let mut lb = f64::INFINITY;
         for j in cs..ce {
             let [x, y, z] = c.cluster[j];
-            if o.signed_distance(x, y, z) > self.cluster_radius[j] {
+            let d = o.signed_distance(x, y, z);
+            if d > self.cluster_radius[j] {
+                lb = lb.min(d - self.cluster_radius[j]);
                 continue;
             }
             let (s, e) = self.clusters[j];
-            if o.any_hit(&c.x[s..e], &c.y[s..e], &c.z[s..e], &self.r[s..e]) {
-                return false;
+            let g = o.min_gap(&c.x[s..e], &c.y[s..e], &c.z[s..e], &self.r[s..e]);
+            if g <= 0.0 {
+                return None;
             }
+            lb = lb.min(g);
         }
-        true
+        Some(lb.max(0.0))
+    }
+
+    /// [`SphereSoa::link_near`] with a lower bound: `None` if link `k`'s bounding sphere may
+    /// touch obstacle `o`, else `Some(g)` with `0 ≤ g ≤` the distance of every sphere of the
+    /// link to the obstacle (after [`SphereSoa::begin`]).
+    pub fn link_far(&self, o: usize, k: usize, c: &Centres) -> Option<f64> {
+        let o = &self.obstacles[o];
+        let [lx, ly, lz] = c.link[k];
+        let d2 = (lx - o.t[0]).powi(2) + (ly - o.t[1]).powi(2) + (lz - o.t[2]).powi(2);
+        let reach = self.link_radius[k] + o.bound;
+        if d2 > reach * reach {
+            return Some((d2.sqrt() - reach).max(0.0));
+        }
+        let d = o.signed_distance(lx, ly, lz);
+        (d > self.link_radius[k]).then(|| d - self.link_radius[k])
     }
 
     /// True if links `a` and `b` ride on the same chain frame (their relative pose never
@@ -349,21 +394,34 @@ impl SphereSoa {
     /// True if no sphere of link `a` touches one of link `b` (all gaps > 0); each sphere of
     /// `a` is culled first by `b`'s bounding sphere.
     pub fn pair_clear(&self, frames: &[Mat34], c: &mut Centres, a: usize, b: usize) -> bool {
+        self.pair_gap(frames, c, a, b).is_some()
+    }
+
+    /// [`SphereSoa::pair_clear`] with a lower bound: `None` if a sphere of link `a` touches
+    /// one of link `b`, else `Some(g)` with `0 ≤ g ≤` every sphere gap between them (culled
+    /// links and clusters give the gap of their bounding spheres).
+    pub fn pair_gap(&self, frames: &[Mat34], c: &mut Centres, a: usize, b: usize) -> Option<f64> {
         let (ca, cb) = (c.link[a], c.link[b]);
         let (ra, rb) = (self.link_radius[a], self.link_radius[b]);
-        if gap(&ca, &cb, ra + rb) > 0.0 {
-            return true;
+        let g = gap(&ca, &cb, ra + rb);
+        if g > 0.0 {
+            return Some(g);
         }
         self.ensure(frames, c, a);
         self.ensure(frames, c, b);
         let ((ca0, ca1), (cb0, cb1)) = (self.link_clusters[a], self.link_clusters[b]);
+        let mut lb = f64::INFINITY;
         for ja in ca0..ca1 {
             let (pa, qa) = (c.cluster[ja], self.cluster_radius[ja]);
-            if gap(&pa, &cb, qa + rb) > 0.0 {
+            let g = gap(&pa, &cb, qa + rb);
+            if g > 0.0 {
+                lb = lb.min(g);
                 continue;
             }
             for jb in cb0..cb1 {
-                if gap(&pa, &c.cluster[jb], qa + self.cluster_radius[jb]) > 0.0 {
+                let g = gap(&pa, &c.cluster[jb], qa + self.cluster_radius[jb]);
+                if g > 0.0 {
+                    lb = lb.min(g);
                     continue;
                 }
                 let ((sa, ea), (sb, eb)) = (self.clusters[ja], self.clusters[jb]);
@@ -371,16 +429,17 @@ impl SphereSoa {
                 let n = xs.len().min(ys.len()).min(zs.len()).min(rs.len());
                 let (ax, ay, az, ar) = (&c.x[sa..ea], &c.y[sa..ea], &c.z[sa..ea], &self.r[sa..ea]);
                 for (((&x, &y), &z), &r) in ax.iter().zip(ay).zip(az).zip(ar) {
-                    let hit = any(n, |j| {
-                        ((xs[j] - x).powi(2) + (ys[j] - y).powi(2) + (zs[j] - z).powi(2)).sqrt() - r - rs[j] <= 0.0
+                    let g = least(n, |j| {
+                        ((xs[j] - x).powi(2) + (ys[j] - y).powi(2) + (zs[j] - z).powi(2)).sqrt() - r - rs[j]
                     });
-                    if hit {
-                        return false;
+                    if g <= 0.0 {
+                        return None;
                     }
+                    lb = lb.min(g);
                 }
             }
         }
-        true
+        Some(lb)
     }
 }
 

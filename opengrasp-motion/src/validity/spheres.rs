@@ -13,6 +13,10 @@ use super::cover::{self, cover_box};
 use super::soa::{and_not, any_lane, with_scratch, Mask, ObstacleFrame, Scratch, SphereSoa};
 use super::{MotionBound, ObstacleBox, ObstaclePrimitive, StateValidityChecker};
 
+mod certified;
+
+use certified::Test;
+
 /// Which link pairs a [`SphereWorld`] checks for self-collision.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum SelfCollisionPairs {
@@ -80,6 +84,11 @@ pub struct SphereWorld {
     coarse: Option<(Arc<Covered>, SphereSoa)>,
     /// Whether batches and motions go through the multi-state kernels.
     batched: bool,
+    /// The tests of a state check and their motion weights (`tests.len() × dim`), and whether
+    /// motions skip tests their checked states certify ([`SphereWorld::with_certified_motions`]).
+    tests: Vec<Test>,
+    weights: Vec<f64>,
+    certify: bool,
 }
 
 /// How a [`SphereWorld`] covers mesh collision shapes (other shapes have closed-form covers).
@@ -194,6 +203,9 @@ impl SphereWorld {
             soa,
             coarse: None,
             batched: false,
+            tests: Vec::new(),
+            weights: Vec::new(),
+            certify: true,
         };
         Ok(world.with_self_collision(SelfCollisionPairs::default()))
     }
@@ -268,6 +280,17 @@ impl SphereWorld {
     /// the culling: see the `mbm/*/…one_by_one` rows of the motion bench.
     pub fn with_batched_checks(mut self, batched: bool) -> Self {
         self.batched = batched;
+        self
+    }
+
+    /// This world checking motions ([`StateValidityChecker::check_motion`], one state at a
+    /// time) with certificates (`true`, default): a test that passes at a state with sphere
+    /// distance `g` is skipped at the states of the motion its links cannot reach within `g`
+    /// ([`MotionBound`]; for a link pair, only the joints that move one link and not the
+    /// other count), and a state whose tests are all certified is skipped. The verdicts and
+    /// counts are those of checking every state (`false`).
+    pub fn with_certified_motions(mut self, certify: bool) -> Self {
+        self.certify = certify;
         self
     }
 
@@ -445,6 +468,7 @@ impl SphereWorld {
             })
         });
         self.fixed_ok = self.soa.static_free_of_obstacles() && static_pairs_clear;
+        (self.tests, self.weights) = self.motion_tests();
     }
 
     /// The state check behind [`StateValidityChecker::is_valid`]: the compiled forward
@@ -630,6 +654,9 @@ impl StateValidityChecker for SphereWorld {
         with_scratch(|s| {
             if self.batched {
                 return self.check_motion_lanes(s, a, b, step);
+            }
+            if let Some(verdict) = self.certify.then(|| self.check_motion_certified(s, a, b, step)).flatten() {
+                return verdict;
             }
             let mut q = std::mem::take(&mut s.q);
             let mut checked = 0;
