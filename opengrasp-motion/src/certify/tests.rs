@@ -1,7 +1,8 @@
 //! Unit tests of the model's private distance bounds.
 
-use super::*;
-use nalgebra::{Rotation3, UnitQuaternion};
+use super::geometry::*;
+use nalgebra::{Isometry3, Matrix3, Point3, Rotation3, UnitQuaternion, Vector3};
+use opengrasp_core::model::{Geometry, Shape};
 use proptest::prelude::*;
 
 fn placed_box(centre: Vector3<f64>, rot: Rotation3<f64>, h: Vector3<f64>) -> Placed {
@@ -89,9 +90,31 @@ proptest! {
                 }
             }
         };
+        // The z ranges contain the primitives, and their supports reach them (sampled
+        // points come within 15 % of the half height of the extremes).
+        let (za, zb) = (a.z_range(), b.z_range());
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         for _ in 0..200 {
             let (x, y) = (sample(&pa), sample(&pb));
             prop_assert!(d <= (x - y).norm() + 1e-9, "bound {d} > point distance {}", (x - y).norm());
+            prop_assert!(za.0 - 1e-12 <= x.z && x.z <= za.1 + 1e-12, "{} outside {za:?}", x.z);
+            prop_assert!(zb.0 - 1e-12 <= y.z && y.z <= zb.1 + 1e-12, "{} outside {zb:?}", y.z);
+            lo = lo.min(x.z);
+            hi = hi.max(x.z);
+        }
+        if kinds % 3 == 1 {
+            // A box's support along z is attained at a corner: sample the corners too.
+            for c in 0..8 {
+                let u = Vector3::new(
+                    if c & 1 == 0 { -1.0 } else { 1.0 },
+                    if c & 2 == 0 { -1.0 } else { 1.0 },
+                    if c & 4 == 0 { -1.0 } else { 1.0 },
+                );
+                let z = (ra * u.component_mul(&Vector3::from(ha))).z;
+                lo = lo.min(z);
+                hi = hi.max(z);
+            }
+            prop_assert!((lo - za.0).abs() < 1e-12 && (hi - za.1).abs() < 1e-12, "{lo} {hi} vs {za:?}");
         }
     }
 }
