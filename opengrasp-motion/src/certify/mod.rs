@@ -47,7 +47,7 @@ use vertical::vertical_radii;
 
 /// A link whose model bounds allow less than this fraction of the segment per advancement
 /// step gets an exact distance query (when the certifier has the exact world).
-pub const EXACT_BELOW: f64 = 0.05;
+pub const EXACT_BELOW: f64 = 0.002;
 
 /// Proves motions collision-free on a conservative model (see the [module docs](self)).
 pub trait SegmentCertifier {
