@@ -6,8 +6,7 @@
 //! are evaluated again. Every link and pair is thus covered by a gapless chain of certified
 //! intervals from 0 to its horizon, and the motion is free once every horizon reaches 1.
 
-use nalgebra::Vector3;
-use opengrasp_core::kinematics::forward_kinematics_into;
+use nalgebra::{Isometry3, Vector3};
 
 use super::geometry::{distance, Placed};
 use super::{Certificate, SegmentCertifier, SphereCertifier, EXACT_BELOW};
@@ -28,7 +27,7 @@ struct Motion<'a> {
 #[derive(Default)]
 struct Scratch {
     full: Vec<f64>,
-    poses: Vec<nalgebra::Isometry3<f64>>,
+    poses: Vec<Isometry3<f64>>,
     /// Per model: the step at which it was last placed, bounding ball, primitive range, z
     /// range; the placed primitives.
     stamp: Vec<usize>,
@@ -82,14 +81,31 @@ impl SphereCertifier {
         }
     }
 
-    /// Forward kinematics at `q` (group values); the models are placed on demand.
+    /// Forward kinematics at `q` (group values) of the links the models need (the others'
+    /// poses are left as they are), the joints the group does not move folded into constant
+    /// transforms; the models are placed on demand.
     fn set_state(&self, q: &[f64], scratch: &mut Scratch) {
         scratch.full.clear();
         scratch.full.extend_from_slice(&self.q_full);
         for (&d, &v) in self.dofs.iter().zip(q) {
             scratch.full[d] = v;
         }
-        forward_kinematics_into(&self.robot, &scratch.full, &mut scratch.poses);
+        scratch.poses.resize(self.robot.links().len(), Isometry3::identity());
+        for &(j, fixed) in &self.chain {
+            let joint = self.robot.joint(j);
+            let local =
+                fixed.unwrap_or_else(|| joint.origin * joint.motion(self.robot.joint_position(&scratch.full, j)));
+            scratch.poses[joint.child.0] = scratch.poses[joint.parent.0] * local;
+        }
+    }
+
+    /// The poses [`SphereCertifier::set_state`] computes at `q`, by link (identity for the links
+    /// no model needs).
+    #[cfg(test)]
+    pub(super) fn link_poses(&self, q: &[f64]) -> Vec<Isometry3<f64>> {
+        let mut scratch = Scratch::default();
+        self.set_state(q, &mut scratch);
+        scratch.poses
     }
 
     /// Places model `k` at the state of step `step` unless it already is.

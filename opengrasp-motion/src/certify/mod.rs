@@ -132,6 +132,9 @@ pub struct SphereCertifier {
     /// Vertical speed radii (see [`vertical_radii`]), like the bound's radii.
     vertical: Vec<f64>,
     robot_id: RobotId,
+    /// The joints on the models' chains in topological order, with the transform from parent
+    /// link to child link of those the group does not move (`None`: computed per state).
+    chain: Vec<(opengrasp_core::model::JointId, Option<Isometry3<f64>>)>,
     /// The exact checker whose world refines the links the model cannot clear.
     exact: Option<CollisionChecker>,
 }
@@ -222,7 +225,24 @@ impl SphereCertifier {
                 }
             }
         }
+        let mut needed = vec![false; robot.joints().len()];
+        for m in &models {
+            for j in robot.chain_to(m.link) {
+                needed[j.0] = true;
+            }
+        }
+        let chain = robot
+            .joints_topological()
+            .iter()
+            .filter(|j| needed[j.0])
+            .map(|&j| {
+                let joint = robot.joint(j);
+                let moved = robot.driving_dof(j).is_some_and(|(d, _)| group.dofs().contains(&d));
+                (j, (!moved).then(|| joint.origin * joint.motion(robot.joint_position(q_full, j))))
+            })
+            .collect();
         Ok(Self {
+            chain,
             limits: group.limits(&robot),
             dofs: group.dofs().to_vec(),
             q_full: q_full.to_vec(),

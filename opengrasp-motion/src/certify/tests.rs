@@ -118,3 +118,49 @@ proptest! {
         }
     }
 }
+
+/// The folded forward kinematics of the certifier (joints the group does not move as
+/// constant transforms, only the models' chains) gives the poses of full forward kinematics.
+#[test]
+fn folded_kinematics_match_full_kinematics() {
+    use opengrasp_core::collision::CollisionWorld;
+    use opengrasp_core::kinematics::forward_kinematics_into;
+    use opengrasp_core::model::{samples::seven_dof_arm, JointGroup};
+    use opengrasp_core::scene::Scene;
+    use rand::{Rng, SeedableRng};
+
+    use crate::certify::SphereCertifier;
+    use crate::validity::MotionBound;
+
+    let robot = std::sync::Arc::new(seven_dof_arm().unwrap());
+    let group = JointGroup::new(&robot, "some", &["joint2", "joint4", "joint5"]).unwrap();
+    let mut scene = Scene::new("arm alone");
+    let rid = scene.add_robot("arm", robot.clone(), Isometry3::translation(0.3, -0.2, 0.1)).unwrap();
+    let world = CollisionWorld::new(&scene).unwrap();
+    let bound = MotionBound::from_robot(&robot, &group).unwrap();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+    let q_full: Vec<f64> = (0..robot.dof())
+        .map(|d| {
+            let (lo, hi) = robot.dof_limits(d);
+            rng.random_range(lo.max(-3.0)..=hi.min(3.0))
+        })
+        .collect();
+    let certifier = SphereCertifier::new(&scene, rid, &group, &q_full, &bound, &world).unwrap();
+    let mut full = Vec::new();
+    for _ in 0..50 {
+        let q: Vec<f64> = group.limits(&robot).iter().map(|(lo, hi)| rng.random_range(*lo..=*hi)).collect();
+        let mut q_all = q_full.clone();
+        group.insert(&mut q_all, &q).unwrap();
+        forward_kinematics_into(&robot, &q_all, &mut full);
+        let folded = certifier.link_poses(&q);
+        let mut compared = 0;
+        for (i, link) in robot.links().iter().enumerate() {
+            if !link.collisions.is_empty() {
+                let d = folded[i].inverse() * full[i];
+                assert!(d.translation.vector.norm() < 1e-12 && d.rotation.angle() < 1e-12, "link {i}");
+                compared += 1;
+            }
+        }
+        assert!(compared >= 7, "{compared}");
+    }
+}
