@@ -148,7 +148,8 @@ fn kitchen_parts(group: &str, edit: impl FnOnce(&mut Scene) -> Result<()>) -> Re
 
 /// The post-processing certifier of `checker`'s scene (built from `scene`, which must be the
 /// scene of the checker's world): the robot's and the obstacles' conservative model with the
-/// checker's motion bound and allowed pairs.
+/// checker's motion bound and allowed pairs, refined by the checker's exact distances where
+/// the model cannot clear a link.
 ///
 /// # Errors
 /// As [`SphereCertifier::new`].
@@ -162,7 +163,7 @@ pub fn certifier_for(
     let bound = checker
         .motion_bound()
         .ok_or(opengrasp_motion::MotionError::InvalidParameter { name: "checker", reason: "no motion bound".into() })?;
-    SphereCertifier::new(scene, robot, group, q_full, bound, checker.world())
+    SphereCertifier::new(scene, robot, group, q_full, bound, checker.world())?.with_exact(checker)
 }
 
 /// Scene 1: the ARMAR-III-like humanoid in the kitchen, hip yaw + right arm, fixed start

@@ -55,7 +55,7 @@ fn certified_segments_are_valid(
         }
         let b = draw(&a, reach);
         tried += 1;
-        if certifier.certify(&a, &b, bound, margin, 100) == Certificate::Free {
+        if certifier.certify(&a, &b, bound, margin, 1000) == Certificate::Free {
             certified += 1;
             let v = validate_path(checker, &[a.clone(), b.clone()], &options);
             assert!(v.discrete && v.strict && v.continuous == Some(true), "{a:?} -> {b:?}: {v:?}");
@@ -74,7 +74,7 @@ fn certified_kitchen_segments_pass_the_exact_validators() {
     let (certified, tried) =
         certified_segments_are_valid(&*instance.checker, certifier, &limits, &instance.start, 1.2, 0.6, 1);
     println!("kitchen scene 1: {certified} of {tried} random segments certified");
-    assert!(tried == 40 && certified >= tried / 5, "{certified} of {tried}");
+    assert!(tried == 40 && certified >= tried / 2, "{certified} of {tried}");
 }
 
 /// A carried object (a box attached to the palm, Clean the Table's group with the base): the
@@ -107,7 +107,7 @@ fn certified_segments_with_a_carried_object_pass_the_exact_validators() {
     assert!(checker.is_valid(&start), "the carrying start state collides");
     let (certified, tried) = certified_segments_are_valid(&checker, &certifier, &limits, &start, 0.5, 0.3, 2);
     println!("carried object: {certified} of {tried} random segments certified");
-    assert!(tried == 40 && certified >= tried / 5, "{certified} of {tried}");
+    assert!(tried == 40 && certified >= tried / 2, "{certified} of {tried}");
 }
 
 /// Post-processing with the certifier gives exactly the exact procedure's paths (kitchen
@@ -147,9 +147,91 @@ fn unsupported_scenes_are_typed_errors() {
     let partial = MotionBound::new(&robot, &group, &[], &[]).unwrap();
     let missing = SphereCertifier::new(&scene, rid, &group, &q, &partial, &world);
     assert!(matches!(missing, Err(MotionError::InvalidParameter { name: "bound", .. })), "{missing:?}");
+    // The exact refinement needs the checker the certifier was built for.
+    let certifier = SphereCertifier::new(&scene, rid, &group, &q, &bound, &world).unwrap();
+    let other_group = robot.group("base_hip_right_arm").unwrap().clone();
+    let other = CollisionChecker::new(
+        Arc::new(CollisionWorld::new(&scene).unwrap()),
+        rid,
+        robot.clone(),
+        other_group,
+        q.clone(),
+    )
+    .unwrap();
+    let refined = certifier.with_exact(&other);
+    assert!(matches!(refined, Err(MotionError::InvalidParameter { name: "checker", .. })), "{refined:?}");
     scene.add_robot("twin", robot.clone(), Isometry3::translation(4.0, 1.0, 0.0)).unwrap();
     scene.add_body(StaticBody::new("post", Isometry3::identity(), vec![])).unwrap();
     let world = CollisionWorld::new(&scene).unwrap();
     let two = SphereCertifier::new(&scene, rid, &group, &q, &bound, &world);
     assert!(matches!(two, Err(MotionError::InvalidParameter { name: "scene", .. })), "{two:?}");
+}
+
+/// The vertical speed bounds hold: on random straight motions of the humanoid with its mobile
+/// base (Clean the Table's group), no corner of a link's collision shapes rises or sinks by
+/// more than the bound; motions of the base alone (sliding and turning on the floor) give a
+/// bound of 0, though every link moves.
+#[test]
+fn vertical_bounds_hold_on_random_motions() {
+    let (scene, rid, robot, group, q) = kitchen("base_hip_right_arm");
+    let world = Arc::new(CollisionWorld::new(&scene).unwrap());
+    let checker = CollisionChecker::new(world, rid, robot.clone(), group.clone(), q.clone()).unwrap();
+    let certifier = certifier_for(&scene, rid, &group, &q, &checker).unwrap();
+    let bound = checker.motion_bound().unwrap();
+    let base_pose = scene.robot(rid).unwrap().base_pose;
+    let limits = group.limits(&robot);
+    let base: Vec<usize> = ["base_x", "base_y", "base_yaw"]
+        .iter()
+        .map(|j| group.dofs().iter().position(|&d| d == robot.dof_index(j).unwrap()).unwrap())
+        .collect();
+    let corners: Vec<Vec<_>> = bound
+        .links()
+        .iter()
+        .map(|l| robot.links()[l.0].collisions.iter().flat_map(|s| s.aabb_corners()).collect())
+        .collect();
+    let heights = |g: &[f64]| {
+        let mut full = q.clone();
+        group.insert(&mut full, g).unwrap();
+        let mut poses = Vec::new();
+        opengrasp_core::kinematics::forward_kinematics_into(&robot, &full, &mut poses);
+        bound.links().iter().map(|l| base_pose * poses[l.0]).collect::<Vec<_>>()
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let (mut tighter, mut checked) = (0, 0);
+    for k in 0..200 {
+        let a: Vec<f64> = limits.iter().map(|(lo, hi)| rng.random_range(*lo..=*hi)).collect();
+        let only_base = k % 4 == 0;
+        let b: Vec<f64> =
+            a.iter()
+                .zip(&limits)
+                .enumerate()
+                .map(|(j, (v, (lo, hi)))| {
+                    if only_base && !base.contains(&j) {
+                        *v
+                    } else {
+                        (v + rng.random_range(-0.4..=0.4)).clamp(*lo, *hi)
+                    }
+                })
+                .collect();
+        let dq: Vec<f64> = a.iter().zip(&b).map(|(x, y)| y - x).collect();
+        let (pa, pb) = (heights(&a), heights(&b));
+        for (i, points) in corners.iter().enumerate() {
+            let v = certifier.vertical_bound(i, &dq).unwrap();
+            if only_base {
+                assert_eq!(v, 0.0, "link {i}: base motions keep heights");
+            }
+            for p in points {
+                let rise = ((pb[i] * p).z - (pa[i] * p).z).abs();
+                assert!(rise <= v + 1e-9, "link {i}: rose {rise} > bound {v}");
+                checked += 1;
+            }
+            if v < 0.5 * bound.bound(i, &dq) {
+                tighter += 1;
+            }
+        }
+    }
+    println!("{checked} corner motions within the vertical bounds; {tighter} link bounds under half the speed bound");
+    assert!(checked > 10_000 && tighter > 1000, "{checked} {tighter}");
+    assert_eq!(certifier.vertical_bound(bound.links().len(), &vec![0.0; group.len()]), None);
+    assert_eq!(certifier.vertical_bound(0, &[0.0]), None);
 }

@@ -75,7 +75,7 @@ pub struct ShortcutStats {
 }
 
 /// Advancement steps a [`SegmentCertifier`] may take per segment before the exact checks run.
-const CERTIFIER_STEPS: usize = 100;
+const CERTIFIER_STEPS: usize = 1000;
 
 /// States of the exact planning-step check tried before the certifier (the first ones of its
 /// coarse-to-fine order: the end state, the middle, the quarters): cheap rejections of
@@ -123,7 +123,7 @@ impl<'a> SegmentCheck<'a> {
     /// - `Some(false)` if one of the first [`PROBE_STATES`] states of the planning-step
     ///   check is invalid (that check would reject it), or, when the continuous validator runs,
     ///   if the state where the certifier got stuck or one of the next [`STUCK_PROBES`] − 1
-    ///   states a planning step apart collides with the environment and not with the robot
+    ///   states a strict step apart collides with the environment and not with the robot
     ///   itself (conservative advancement cannot pass an environment collision);
     /// - `Some(true)` if the certifier proves `a → b` free with a margin that makes every
     ///   exact validator accept it: every state is collision-free, so both discrete checks

@@ -1,7 +1,8 @@
 //! Unit tests of the model's private distance bounds.
 
-use super::*;
-use nalgebra::{Rotation3, UnitQuaternion};
+use super::geometry::*;
+use nalgebra::{Isometry3, Matrix3, Point3, Rotation3, UnitQuaternion, Vector3};
+use opengrasp_core::model::{Geometry, Shape};
 use proptest::prelude::*;
 
 fn placed_box(centre: Vector3<f64>, rot: Rotation3<f64>, h: Vector3<f64>) -> Placed {
@@ -89,9 +90,77 @@ proptest! {
                 }
             }
         };
+        // The z ranges contain the primitives, and their supports reach them (sampled
+        // points come within 15 % of the half height of the extremes).
+        let (za, zb) = (a.z_range(), b.z_range());
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         for _ in 0..200 {
             let (x, y) = (sample(&pa), sample(&pb));
             prop_assert!(d <= (x - y).norm() + 1e-9, "bound {d} > point distance {}", (x - y).norm());
+            prop_assert!(za.0 - 1e-12 <= x.z && x.z <= za.1 + 1e-12, "{} outside {za:?}", x.z);
+            prop_assert!(zb.0 - 1e-12 <= y.z && y.z <= zb.1 + 1e-12, "{} outside {zb:?}", y.z);
+            lo = lo.min(x.z);
+            hi = hi.max(x.z);
         }
+        if kinds % 3 == 1 {
+            // A box's support along z is attained at a corner: sample the corners too.
+            for c in 0..8 {
+                let u = Vector3::new(
+                    if c & 1 == 0 { -1.0 } else { 1.0 },
+                    if c & 2 == 0 { -1.0 } else { 1.0 },
+                    if c & 4 == 0 { -1.0 } else { 1.0 },
+                );
+                let z = (ra * u.component_mul(&Vector3::from(ha))).z;
+                lo = lo.min(z);
+                hi = hi.max(z);
+            }
+            prop_assert!((lo - za.0).abs() < 1e-12 && (hi - za.1).abs() < 1e-12, "{lo} {hi} vs {za:?}");
+        }
+    }
+}
+
+/// The folded forward kinematics of the certifier (joints the group does not move as
+/// constant transforms, only the models' chains) gives the poses of full forward kinematics.
+#[test]
+fn folded_kinematics_match_full_kinematics() {
+    use opengrasp_core::collision::CollisionWorld;
+    use opengrasp_core::kinematics::forward_kinematics_into;
+    use opengrasp_core::model::{samples::seven_dof_arm, JointGroup};
+    use opengrasp_core::scene::Scene;
+    use rand::{Rng, SeedableRng};
+
+    use crate::certify::SphereCertifier;
+    use crate::validity::MotionBound;
+
+    let robot = std::sync::Arc::new(seven_dof_arm().unwrap());
+    let group = JointGroup::new(&robot, "some", &["joint2", "joint4", "joint5"]).unwrap();
+    let mut scene = Scene::new("arm alone");
+    let rid = scene.add_robot("arm", robot.clone(), Isometry3::translation(0.3, -0.2, 0.1)).unwrap();
+    let world = CollisionWorld::new(&scene).unwrap();
+    let bound = MotionBound::from_robot(&robot, &group).unwrap();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+    let q_full: Vec<f64> = (0..robot.dof())
+        .map(|d| {
+            let (lo, hi) = robot.dof_limits(d);
+            rng.random_range(lo.max(-3.0)..=hi.min(3.0))
+        })
+        .collect();
+    let certifier = SphereCertifier::new(&scene, rid, &group, &q_full, &bound, &world).unwrap();
+    let mut full = Vec::new();
+    for _ in 0..50 {
+        let q: Vec<f64> = group.limits(&robot).iter().map(|(lo, hi)| rng.random_range(*lo..=*hi)).collect();
+        let mut q_all = q_full.clone();
+        group.insert(&mut q_all, &q).unwrap();
+        forward_kinematics_into(&robot, &q_all, &mut full);
+        let folded = certifier.link_poses(&q);
+        let mut compared = 0;
+        for (i, link) in robot.links().iter().enumerate() {
+            if !link.collisions.is_empty() {
+                let d = folded[i].inverse() * full[i];
+                assert!(d.translation.vector.norm() < 1e-12 && d.rotation.angle() < 1e-12, "link {i}");
+                compared += 1;
+            }
+        }
+        assert!(compared >= 7, "{compared}");
     }
 }

@@ -1,0 +1,322 @@
+//! Conservative advancement on the model, with a certified horizon per link and per pair.
+//!
+//! Each moving link (and each kept pair) is certified up to its own horizon: evaluated at `t`
+//! with a time to contact `τ`, it cannot come within the margin before `t + τ`. The motion
+//! advances to the smallest horizon, where only the links and pairs whose horizon is reached
+//! are evaluated again. Every link and pair is thus covered by a gapless chain of certified
+//! intervals from 0 to its horizon, and the motion is free once every horizon reaches 1.
+
+use nalgebra::{Isometry3, Vector3};
+
+use super::geometry::{distance, Placed};
+use super::{Certificate, SegmentCertifier, SphereCertifier, EXACT_BELOW};
+use crate::validity::MotionBound;
+
+/// The motion being certified: its bound and per-link and per-pair rates.
+struct Motion<'a> {
+    bound: &'a MotionBound,
+    /// Per link slot: bound on the speed of its points.
+    rates: Vec<f64>,
+    /// Per link slot: bound on their vertical speed.
+    vertical_rates: Vec<f64>,
+    /// Per pair: bound on the relative speed of its two models.
+    pair_rates: Vec<f64>,
+}
+
+/// Buffers of [`SphereCertifier::certify`].
+#[derive(Default)]
+struct Scratch {
+    full: Vec<f64>,
+    poses: Vec<Isometry3<f64>>,
+    /// Per model: the step at which it was last placed, bounding ball, primitive range, z
+    /// range; the placed primitives.
+    stamp: Vec<usize>,
+    balls: Vec<(Vector3<f64>, f64)>,
+    ranges: Vec<(usize, usize)>,
+    z: Vec<(f64, f64)>,
+    prims: Vec<Placed>,
+    /// Certified horizon of each model and of each pair.
+    horizon: Vec<f64>,
+    pair_horizon: Vec<f64>,
+    /// Models to refine by an exact query and their model times; the links selected for it,
+    /// its distances.
+    refine: Vec<(usize, f64)>,
+    selected: Vec<bool>,
+    exact: Vec<f64>,
+}
+
+/// A step could not advance: a bound is at most the margin.
+struct Stuck;
+
+/// Time (segment fraction) to cover `gap − margin` at `rate`: `-inf` if the gap is at most the
+/// margin, `+inf` if nothing moves.
+fn time(gap: f64, margin: f64, rate: f64) -> f64 {
+    if gap <= margin {
+        f64::NEG_INFINITY
+    } else if rate > 0.0 {
+        (gap - margin) / rate
+    } else {
+        f64::INFINITY
+    }
+}
+
+impl SphereCertifier {
+    /// Buffers sized for this model.
+    fn scratch(&self) -> Scratch {
+        let mut ranges = Vec::with_capacity(self.models.len());
+        let mut n = 0;
+        for m in &self.models {
+            ranges.push((n, n + m.prims.len()));
+            n += m.prims.len();
+        }
+        Scratch {
+            stamp: vec![usize::MAX; self.models.len()],
+            balls: vec![(Vector3::zeros(), 0.0); self.models.len()],
+            z: vec![(0.0, 0.0); self.models.len()],
+            prims: vec![Placed::Ball(Vector3::zeros(), 0.0); n],
+            ranges,
+            horizon: vec![0.0; self.models.len()],
+            pair_horizon: vec![0.0; self.pairs.len()],
+            ..Scratch::default()
+        }
+    }
+
+    /// Forward kinematics at `q` (group values) of the links the models need (the others'
+    /// poses are left as they are), the joints the group does not move folded into constant
+    /// transforms; the models are placed on demand.
+    fn set_state(&self, q: &[f64], scratch: &mut Scratch) {
+        scratch.full.clear();
+        scratch.full.extend_from_slice(&self.q_full);
+        for (&d, &v) in self.dofs.iter().zip(q) {
+            scratch.full[d] = v;
+        }
+        scratch.poses.resize(self.robot.links().len(), Isometry3::identity());
+        for &(j, fixed) in &self.chain {
+            let joint = self.robot.joint(j);
+            let local =
+                fixed.unwrap_or_else(|| joint.origin * joint.motion(self.robot.joint_position(&scratch.full, j)));
+            scratch.poses[joint.child.0] = scratch.poses[joint.parent.0] * local;
+        }
+    }
+
+    /// The poses [`SphereCertifier::set_state`] computes at `q`, by link (identity for the links
+    /// no model needs).
+    #[cfg(test)]
+    pub(super) fn link_poses(&self, q: &[f64]) -> Vec<Isometry3<f64>> {
+        let mut scratch = Scratch::default();
+        self.set_state(q, &mut scratch);
+        scratch.poses
+    }
+
+    /// Places model `k` at the state of step `step` unless it already is.
+    fn place(&self, k: usize, step: usize, scratch: &mut Scratch) {
+        if scratch.stamp[k] == step {
+            return;
+        }
+        scratch.stamp[k] = step;
+        let m = &self.models[k];
+        let pose = self.base_pose * scratch.poses[m.link.0];
+        scratch.balls[k] = ((pose * m.ball.0).coords, m.ball.1);
+        let (start, end) = scratch.ranges[k];
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for (slot, p) in scratch.prims[start..end].iter_mut().zip(&m.prims) {
+            *slot = Placed::new(p, &pose);
+            let (a, b) = slot.z_range();
+            lo = lo.min(a);
+            hi = hi.max(b);
+        }
+        scratch.z[k] = (lo, hi);
+    }
+
+    /// Lower bound on the time (segment fraction) before placed model `k` comes within
+    /// `margin` of an obstacle, or any value of at least `cap` once that is certain (`-inf`
+    /// if it may be within `margin` now): per obstacle, the better of the distance bound over
+    /// the link's rate and the vertical gap over its vertical rate.
+    fn obstacle_ttc(&self, scratch: &Scratch, k: usize, motion: &Motion<'_>, margin: f64, cap: f64) -> f64 {
+        let slot = self.models[k].slot;
+        let (rate, vrate) = (motion.rates[slot], motion.vertical_rates[slot]);
+        let (c, r) = scratch.balls[k];
+        let (lo, hi) = scratch.z[k];
+        let prims = &scratch.prims[scratch.ranges[k].0..scratch.ranges[k].1];
+        let mut best = cap;
+        for ((o, (oc, or)), &(olo, ohi)) in self.obstacles.iter().zip(&self.obstacle_balls).zip(&self.obstacle_z) {
+            let vertical = time((lo - ohi).max(olo - hi), margin, vrate);
+            if vertical >= best {
+                continue;
+            }
+            // The distance that certifies `best`.
+            let enough = rate * best + margin;
+            if (c - oc).norm() - r - or >= enough || distance(&Placed::Ball(c, r), o, enough) >= enough {
+                continue;
+            }
+            let mut d = enough.max(2.0 * margin);
+            for p in prims {
+                d = d.min(distance(p, o, d));
+            }
+            best = best.min(time(d, margin, rate).max(vertical));
+        }
+        best
+    }
+
+    /// Lower bound on the time before the two placed models of pair `p` come within `margin`
+    /// of each other, or any value of at least `cap` once that is certain.
+    fn pair_ttc(&self, scratch: &Scratch, p: usize, motion: &Motion<'_>, margin: f64, cap: f64) -> f64 {
+        let (i, j) = self.pairs[p];
+        let rate = motion.pair_rates[p];
+        let ((ca, ra), (cb, rb)) = (scratch.balls[i], scratch.balls[j]);
+        let enough = rate * cap + margin;
+        let ball = (ca - cb).norm() - ra - rb;
+        if ball >= enough && ball > margin {
+            return time(ball, margin, rate);
+        }
+        let mut d = enough.max(2.0 * margin);
+        for x in &scratch.prims[scratch.ranges[i].0..scratch.ranges[i].1] {
+            for y in &scratch.prims[scratch.ranges[j].0..scratch.ranges[j].1] {
+                d = d.min(distance(x, y, d));
+            }
+        }
+        time(d, margin, rate)
+    }
+
+    /// Refines the models of `scratch.refine` by one exact distance query at the state of
+    /// `scratch.full`: each gets the better of its model time and the exact one.
+    fn refine(&self, scratch: &mut Scratch, motion: &Motion<'_>, margin: f64, t: f64) -> Result<(), Stuck> {
+        let Some(checker) = &self.exact else { return Err(Stuck) };
+        scratch.selected.clear();
+        scratch.selected.resize(self.robot.links().len(), false);
+        for &(k, _) in &scratch.refine {
+            scratch.selected[self.models[k].link.0] = true;
+        }
+        let exact = checker.world().selected_link_distances_into(
+            self.robot_id,
+            &scratch.full,
+            &scratch.selected,
+            &mut scratch.exact,
+        );
+        for &(k, model) in &scratch.refine {
+            let m = &self.models[k];
+            let refined = match exact {
+                Ok(()) => model.max(time(scratch.exact[m.link.0], margin, motion.rates[m.slot])),
+                Err(_) => model,
+            };
+            if refined <= 0.0 {
+                return Err(Stuck);
+            }
+            scratch.horizon[k] = scratch.horizon[k].max(t + refined);
+        }
+        Ok(())
+    }
+
+    /// One advancement step at `t` (the state placed by [`SphereCertifier::set_state`] as
+    /// step `step`): evaluates the models and pairs whose horizon is reached, or will be
+    /// before `until` (so that those about to expire are evaluated together, in one step).
+    fn step(
+        &self,
+        scratch: &mut Scratch,
+        motion: &Motion<'_>,
+        margin: f64,
+        t: f64,
+        until: f64,
+        step: usize,
+    ) -> Result<(), Stuck> {
+        // Certifying up to a little past the end finishes the motion.
+        let remaining = 1.0 - t + 1e-9;
+        let refine_below = if self.exact.is_some() { remaining.min(EXACT_BELOW) } else { f64::NEG_INFINITY };
+        scratch.refine.clear();
+        for k in 0..self.models.len() {
+            if scratch.horizon[k] > until {
+                continue;
+            }
+            if !motion.bound.is_moving(self.models[k].slot) {
+                scratch.horizon[k] = f64::INFINITY;
+                continue;
+            }
+            self.place(k, step, scratch);
+            let ttc = self.obstacle_ttc(scratch, k, motion, margin, remaining);
+            if ttc < refine_below {
+                scratch.refine.push((k, ttc));
+            } else if ttc <= 0.0 {
+                return Err(Stuck);
+            } else {
+                scratch.horizon[k] = scratch.horizon[k].max(t + ttc);
+            }
+        }
+        if !scratch.refine.is_empty() {
+            self.refine(scratch, motion, margin, t)?;
+        }
+        for p in 0..self.pairs.len() {
+            if scratch.pair_horizon[p] > until {
+                continue;
+            }
+            let (i, j) = self.pairs[p];
+            self.place(i, step, scratch);
+            self.place(j, step, scratch);
+            let ttc = self.pair_ttc(scratch, p, motion, margin, remaining);
+            if ttc <= 0.0 {
+                return Err(Stuck);
+            }
+            scratch.pair_horizon[p] = scratch.pair_horizon[p].max(t + ttc);
+        }
+        Ok(())
+    }
+
+    /// Bound on the relative motion of the two models of each pair for the motion `dq`: only
+    /// the group joints on one model's chain and not the other's move them apart (joints on
+    /// both chains move both rigidly), each by at most `|dq_j| r_ij` (see [`MotionBound`]).
+    fn pair_rates(&self, bound: &MotionBound, dq: &[f64]) -> Vec<f64> {
+        self.pairs
+            .iter()
+            .map(|&(i, j)| {
+                let (a, b) = (self.models[i].slot, self.models[j].slot);
+                dq.iter()
+                    .enumerate()
+                    .map(|(g, d)| {
+                        let (ra, rb) = (bound.radius(a, g), bound.radius(b, g));
+                        let r = if ra > 0.0 && rb > 0.0 { 0.0 } else { ra + rb };
+                        r * d.abs()
+                    })
+                    .sum::<f64>()
+            })
+            .collect()
+    }
+}
+
+impl SegmentCertifier for SphereCertifier {
+    fn certify(&self, a: &[f64], b: &[f64], bound: &MotionBound, margin: f64, max_steps: usize) -> Certificate {
+        let unknown = Certificate::Unknown { near: None };
+        let n = self.dofs.len();
+        let within = |q: &[f64]| q.len() == n && q.iter().zip(&self.limits).all(|(v, (lo, hi))| *v >= *lo && *v <= *hi);
+        if *bound != self.bound || bound.dim() != n || !within(a) || !within(b) || margin.is_nan() || margin <= 0.0 {
+            return unknown;
+        }
+        let dq: Vec<f64> = a.iter().zip(b).map(|(x, y)| y - x).collect();
+        let motion = Motion {
+            bound,
+            rates: (0..bound.links().len()).map(|i| bound.bound(i, &dq)).collect(),
+            vertical_rates: (0..bound.links().len())
+                .map(|i| self.vertical_bound(i, &dq).unwrap_or(f64::INFINITY))
+                .collect(),
+            pair_rates: self.pair_rates(bound, &dq),
+        };
+        let mut scratch = self.scratch();
+        let mut q = a.to_vec();
+        let (mut t, mut last) = (0.0f64, 0.0f64);
+        for step in 0..max_steps {
+            self.set_state(&q, &mut scratch);
+            // What expires within the last advance from here is evaluated now.
+            let until = t + (t - last);
+            if self.step(&mut scratch, &motion, margin, t, until, step).is_err() {
+                return Certificate::Unknown { near: Some(t) };
+            }
+            last = t;
+            t = scratch.horizon.iter().chain(&scratch.pair_horizon).fold(f64::INFINITY, |m, &h| m.min(h));
+            if t >= 1.0 {
+                return Certificate::Free;
+            }
+            for ((x, &a0), &dv) in q.iter_mut().zip(a).zip(&dq) {
+                *x = a0 + t * dv;
+            }
+        }
+        Certificate::Unknown { near: Some(t) }
+    }
+}
