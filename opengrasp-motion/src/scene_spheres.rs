@@ -21,6 +21,12 @@
 //! - **Obstacles**: static bodies and free objects with their exact closed-form shapes, meshes
 //!   as the oriented box of their bounding box (which contains the mesh).
 //! - **Self-collision**: the link pairs the exact world checks (its allowed-collision matrix).
+//!   Moving links that move rigidly together (the same last group joint on their chains) and
+//!   are allowed to touch the same links elsewhere are merged into one sphere-world link, so a
+//!   state check culls a few bodies rather than dozens of links; the pairs inside such a body
+//!   never change and are decided once, on the covers.
+//! - **Reach**: obstacles no moving link can reach in any configuration (a ball about the first
+//!   group joint on its chain) are left out.
 //!
 //! Carried objects and scenes with several robots are refused with a typed error.
 
@@ -29,7 +35,7 @@ use std::sync::Arc;
 use nalgebra::{Isometry3, Point3, Translation3, Vector3};
 use opengrasp_core::collision::CollisionWorld;
 use opengrasp_core::kinematics::forward_kinematics_into;
-use opengrasp_core::model::{Geometry, JointGroup, LinkId, Robot, Shape};
+use opengrasp_core::model::{Geometry, JointGroup, JointId, LinkId, Robot, Shape};
 use opengrasp_core::scene::{RobotId, Scene};
 
 use crate::error::{MotionError, Result};
@@ -221,6 +227,10 @@ pub struct SceneSphereModel {
     static_clear: bool,
     overhang: f64,
     static_links: usize,
+    /// Obstacles left out because no moving link can reach them.
+    unreachable: usize,
+    /// Links of the sphere world (moving links merged into rigid bodies).
+    bodies: usize,
 }
 
 impl SceneSphereModel {
@@ -289,39 +299,100 @@ impl SceneSphereModel {
             obstacles.extend(object.shapes.iter().map(|s| solid(&object.name, &object.pose, s)));
         }
 
-        // Links the group moves: their solids covered by spheres.
-        let mut spherized: Robot = (*robot).clone();
+        // Links the group moves: their solids covered by spheres (in the link frame).
+        let mut covers: Vec<Vec<(Point3<f64>, f64)>> = vec![Vec::new(); robot.links().len()];
         let mut overhang: f64 = 0.0;
         let mut buf = Vec::new();
-        for &l in &with_geometry {
-            let mut spheres = Vec::new();
-            if moved[l] {
-                for shape in &robot.links()[l].collisions {
-                    buf.clear();
-                    shape_cover(&shape.geometry, &Isometry3::identity(), options, &mut buf)?;
-                    let reach = cover_overhang(&shape.geometry, &buf).unwrap_or(options.meshes.max_overhang);
-                    overhang = overhang.max(reach);
-                    spheres.extend(buf.iter().map(|(c, r)| {
-                        let c = shape.origin * c;
-                        Shape::new(Translation3::from(c.coords).into(), Geometry::Sphere { radius: *r })
-                    }));
-                }
+        let moving: Vec<usize> = with_geometry.iter().copied().filter(|&l| moved[l]).collect();
+        for &l in &moving {
+            for shape in &robot.links()[l].collisions {
+                buf.clear();
+                shape_cover(&shape.geometry, &Isometry3::identity(), options, &mut buf)?;
+                overhang = overhang.max(cover_overhang(&shape.geometry, &buf).unwrap_or(options.meshes.max_overhang));
+                covers[l].extend(buf.iter().map(|(c, r)| (shape.origin * c, *r)));
             }
-            spherized.link_mut(LinkId(l)).collisions = spheres;
+        }
+        // Links that move rigidly together (the same last group joint on their chains) and are
+        // allowed to touch the same links of the other bodies are merged into one (fewer
+        // links to cull per state). Pairs inside a body never change: decided once here.
+        let body = |l: usize| robot.chain_to(LinkId(l)).into_iter().rev().find(|&j| in_group(&robot, group, j));
+        let mut allowed_with = vec![vec![false; robot.links().len()]; robot.links().len()];
+        for &a in &moving {
+            for &b in &moving {
+                allowed_with[a][b] = a == b || world.is_collision_allowed(robot_id, LinkId(a), LinkId(b))?;
+            }
+        }
+        let signature = |a: usize| -> Vec<bool> {
+            moving.iter().filter(|&&b| body(b) != body(a)).map(|&b| allowed_with[a][b]).collect()
+        };
+        let mut rigid_clear = true;
+        let mut classes: Vec<(Option<JointId>, Vec<bool>, Vec<usize>)> = Vec::new();
+        for &a in &moving {
+            let (key, sig) = (body(a), signature(a));
+            for &b in moving.iter().filter(|&&b| b < a && body(b) == key && !allowed_with[a][b]) {
+                rigid_clear &= covers_apart(&covers[a], &poses[a], &covers[b], &poses[b]);
+            }
+            // A body is split into pieces no wider than `PIECE` so that culling stays tight.
+            let ball = cover_ball(&covers[a], &poses[a]);
+            let piece = classes.iter_mut().find(|c| {
+                c.0 == key && c.1 == sig && {
+                    let (p, r) = cover_ball(
+                        &c.2.iter().flat_map(|&m| world_cover(&covers[m], &poses[m])).collect::<Vec<_>>(),
+                        &Isometry3::identity(),
+                    );
+                    (p - ball.0).norm() + ball.1.max(r) <= PIECE
+                }
+            });
+            match piece {
+                Some(class) => class.2.push(a),
+                None => classes.push((key, sig, vec![a])),
+            }
+        }
+        let mut spherized: Robot = (*robot).clone();
+        for &l in &with_geometry {
+            spherized.link_mut(LinkId(l)).collisions.clear();
+        }
+        for (_, _, members) in &classes {
+            let rep = members[0];
+            let into_rep = poses[rep].inverse();
+            spherized.link_mut(LinkId(rep)).collisions = members
+                .iter()
+                .flat_map(|&m| covers[m].iter().map(move |&(c, r)| (m, c, r)))
+                .map(|(m, c, r)| {
+                    let c = into_rep * (poses[m] * c);
+                    Shape::new(Translation3::from(c.coords).into(), Geometry::Sphere { radius: r })
+                })
+                .collect();
         }
         let mut allowed = Vec::new();
-        let moving: Vec<usize> = with_geometry.iter().copied().filter(|&l| moved[l]).collect();
-        for (i, &a) in moving.iter().enumerate() {
-            for &b in &moving[i + 1..] {
-                if world.is_collision_allowed(robot_id, LinkId(a), LinkId(b))? {
-                    allowed.push((LinkId(a), LinkId(b)));
+        for (i, a) in classes.iter().enumerate() {
+            for b in &classes[i + 1..] {
+                let (ra, rb) = (a.2[0], b.2[0]);
+                // Pairs of one body are decided above; the others by the shared rule.
+                if a.0 == b.0 || allowed_with[ra][rb] {
+                    allowed.push((LinkId(ra), LinkId(rb)));
                 }
             }
+        }
+        let static_clear = static_clear && rigid_clear;
+        // Obstacles no moving link can reach are left out.
+        let reach = reach_balls(&robot, group, &spherized, &moved, &poses, &entry.base_pose);
+        let total = obstacles.len();
+        if let Some(reach) = reach {
+            obstacles.retain(|o| reach.iter().any(|(p, r)| o.signed_distance(p) <= *r));
         }
         let model = SphereWorld::new(Arc::new(spherized), group.clone(), q_full.to_vec(), entry.base_pose, Vec::new())?
             .with_self_collision(SelfCollisionPairs::Robot);
+        let kept = obstacles.len();
         let world = model.for_problem(q_full.to_vec(), obstacles, &allowed)?;
-        Ok(Self { world, static_clear, overhang, static_links: fixed.len() })
+        Ok(Self {
+            world,
+            static_clear,
+            overhang,
+            static_links: fixed.len(),
+            unreachable: total - kept,
+            bodies: classes.len(),
+        })
     }
 
     /// The sphere world of the links the group moves.
@@ -345,18 +416,100 @@ impl SceneSphereModel {
     pub fn static_link_count(&self) -> usize {
         self.static_links
     }
+
+    /// Number of obstacles left out because no moving link can reach them.
+    pub fn unreachable_obstacle_count(&self) -> usize {
+        self.unreachable
+    }
+
+    /// Number of sphere-world links: the moving links with geometry, merged where they move
+    /// rigidly together and may touch the same links of the other bodies.
+    pub fn body_count(&self) -> usize {
+        self.bodies
+    }
+}
+
+/// Largest radius of a merged body piece (m): see [`SceneSphereModel`].
+const PIECE: f64 = 0.12;
+
+/// The spheres of `cover` placed at `pose`.
+fn world_cover(cover: &[(Point3<f64>, f64)], pose: &Isometry3<f64>) -> Vec<(Point3<f64>, f64)> {
+    cover.iter().map(|(c, r)| (pose * c, *r)).collect()
+}
+
+/// A ball holding the spheres of `cover` placed at `pose`: about their mean centre.
+fn cover_ball(cover: &[(Point3<f64>, f64)], pose: &Isometry3<f64>) -> (Point3<f64>, f64) {
+    let placed = world_cover(cover, pose);
+    let n = placed.len().max(1) as f64;
+    let c = placed.iter().fold(Point3::origin(), |acc, (p, _)| acc + p.coords / n);
+    (c, placed.iter().map(|(p, r)| (p - c).norm() + r).fold(0.0, f64::max))
+}
+
+/// True if joint `j` is driven by a dof of `group`.
+fn in_group(robot: &Robot, group: &JointGroup, j: JointId) -> bool {
+    robot.driving_dof(j).is_some_and(|(dof, _)| group.dofs().contains(&dof))
+}
+
+/// True if no sphere of cover `a` (link frame at `pa`) touches one of `b` (at `pb`).
+fn covers_apart(a: &[(Point3<f64>, f64)], pa: &Isometry3<f64>, b: &[(Point3<f64>, f64)], pb: &Isometry3<f64>) -> bool {
+    let b: Vec<_> = b.iter().map(|(c, r)| (pb * c, *r)).collect();
+    a.iter().all(|(c, r)| {
+        let c = pa * c;
+        b.iter().all(|(d, s)| (c - d).norm() > r + s)
+    })
+}
+
+/// Per moving link of `spherized` (covered by spheres), a ball that holds its spheres in every
+/// configuration of the group: centred at the origin of the first group joint on its chain
+/// (fixed in the world: the joints above it are held at `q_full`), of radius the sum of the
+/// joint offsets below it plus the farthest sphere. `None` if a group joint translates
+/// (prismatic: the reach depends on its limits; nothing is left out).
+fn reach_balls(
+    robot: &Robot,
+    group: &JointGroup,
+    spherized: &Robot,
+    moved: &[bool],
+    poses: &[Isometry3<f64>],
+    base: &Isometry3<f64>,
+) -> Option<Vec<(Point3<f64>, f64)>> {
+    let mut balls = Vec::new();
+    for (l, link) in spherized.links().iter().enumerate() {
+        if !moved[l] || link.collisions.is_empty() {
+            continue;
+        }
+        let chain = robot.chain_to(LinkId(l));
+        let first = chain.iter().position(|&j| in_group(robot, group, j))?;
+        let mut radius = 0.0;
+        for &j in &chain[first..] {
+            let joint = robot.joint(j);
+            if joint.kind == opengrasp_core::model::JointKind::Prismatic {
+                return None;
+            }
+            if j != chain[first] {
+                radius += joint.origin.translation.vector.norm();
+            }
+        }
+        let farthest = link
+            .collisions
+            .iter()
+            .map(|s| {
+                let r = match s.geometry {
+                    Geometry::Sphere { radius } => radius,
+                    _ => return f64::INFINITY,
+                };
+                s.origin.translation.vector.norm() + r
+            })
+            .fold(0.0, f64::max);
+        let joint = robot.joint(chain[first]);
+        let centre = base * poses[joint.parent.0] * Point3::from(joint.origin.translation.vector);
+        balls.push((centre, radius + farthest));
+    }
+    Some(balls)
 }
 
 /// Per link: whether a joint of `group` (or a joint mimicking one) is on its chain.
 fn moved_links(robot: &Robot, group: &JointGroup) -> Vec<bool> {
-    (0..robot.links().len())
-        .map(|l| {
-            robot
-                .chain_to(LinkId(l))
-                .iter()
-                .any(|&j| robot.driving_dof(j).is_some_and(|(dof, _)| group.dofs().contains(&dof)))
-        })
-        .collect()
+    (0..robot.links().len()).map(|l| robot.chain_to(LinkId(l)).iter().any(|&j| in_group(robot, group, j))).collect()
 }
 
 /// The obstacle of `shape` on a body at `pose`: its exact closed-form solid, or for a mesh
