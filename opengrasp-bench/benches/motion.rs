@@ -91,6 +91,16 @@ fn bench_scene(c: &mut Criterion, id: &str, scene: BenchmarkScene) {
             })
         });
         c.bench_function(&format!("{id}/state_check_spheres"), |b| b.iter(|| model.is_valid(std::hint::black_box(&q))));
+        // 64 uniform random states within the limits (what a roadmap samples): exact and model.
+        let limits = instance.group.limits(&instance.robot);
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let states: Vec<Vec<f64>> =
+            (0..64).map(|_| limits.iter().map(|(lo, hi)| rng.random_range(*lo..=*hi)).collect()).collect();
+        for (row, checker) in [("random64_exact", &*instance.checker), ("random64_spheres", model)] {
+            c.bench_function(&format!("{id}/state_check_{row}"), |b| {
+                b.iter(|| states.iter().filter(|q| checker.is_valid(q)).count())
+            });
+        }
     }
 }
 
