@@ -1,5 +1,7 @@
 //! Planning time on the standard motion-planning scene (scene 1): RRT-Connect on the
-//! ARMAR-III-like humanoid in the kitchen (hip yaw + right arm) and on the 7-DoF stand-in, the
+//! ARMAR-III-like humanoid in the kitchen (hip yaw + right arm; exact checker, and
+//! `armar_kitchen/rrt_connect_spheres` / `state_check_spheres` on the conservative sphere model
+//! the harness plans on) and on the 7-DoF stand-in, the
 //! post-processing of planned paths (repair + shortcut, as the harness runs it), plus the cost
 //! of one validity check; and RRT-Connect on the MotionBenchMaker Panda problems vendored in
 //! `opengrasp-motion/tests/data/mbm` (`mbm/<set>/...`: on the Panda's meshes with the exact
@@ -79,6 +81,28 @@ fn bench_scene(c: &mut Criterion, id: &str, scene: BenchmarkScene) {
     c.bench_function(&format!("{id}/validity_check"), |b| {
         b.iter(|| instance.checker.is_valid(std::hint::black_box(&q)))
     });
+    // The planning model the harness plans on (kitchen scenes: the conservative sphere model).
+    if let Some(model) = instance.planning_checker.as_deref() {
+        let mut planner = RrtConnect::default();
+        let mut seed = 0u64;
+        c.bench_function(&format!("{id}/rrt_connect_spheres"), |b| {
+            b.iter(|| {
+                seed = (seed + 1) % 100;
+                planner.plan(&instance.problem(model, Duration::from_secs(10), seed, 0.02)).expect("solved")
+            })
+        });
+        c.bench_function(&format!("{id}/state_check_spheres"), |b| b.iter(|| model.is_valid(std::hint::black_box(&q))));
+        // 64 uniform random states within the limits (what a roadmap samples): exact and model.
+        let limits = instance.group.limits(&instance.robot);
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let states: Vec<Vec<f64>> =
+            (0..64).map(|_| limits.iter().map(|(lo, hi)| rng.random_range(*lo..=*hi)).collect()).collect();
+        for (row, checker) in [("random64_exact", &*instance.checker), ("random64_spheres", model)] {
+            c.bench_function(&format!("{id}/state_check_{row}"), |b| {
+                b.iter(|| states.iter().filter(|q| checker.is_valid(q)).count())
+            });
+        }
+    }
 }
 
 /// RRT-Connect planning time per MBM set, cycling over the set's problems (failures within

@@ -10,6 +10,11 @@
 //! - [`armar_ik_scene`] (scene 2): the same humanoid, a box at a seeded random position on the
 //!   red table in front of it, goal = the palm above the box (IK then plan, or IK-RRT).
 //!
+//! Both plan on a conservative sphere model of the humanoid and the kitchen
+//! ([`SceneSphereModel`], the instance's `planning_checker`, built by [`planning_model_for`]):
+//! every state it accepts is collision-free under the exact geometry, which stays the judge
+//! (validators, metrics and post-processing use the exact checker).
+//!
 //! Clean the Table (scene 3) is a sequence of queries: see [`crate::clean_table`].
 //!
 //! Stand-ins on core's 7-DoF sample arm ([`samples::seven_dof_arm`]) in a small "kitchen
@@ -35,6 +40,7 @@ use rand_chacha::ChaCha8Rng;
 use opengrasp_motion::benchmark::{BenchmarkScene, SceneInstance};
 use opengrasp_motion::certify::SphereCertifier;
 use opengrasp_motion::problem::{Goal, PoseGoal};
+use opengrasp_motion::scene_spheres::{SceneModelOptions, SceneSphereModel};
 use opengrasp_motion::validity::{CollisionChecker, ObstacleBox, SphereWorld, StateValidityChecker};
 use opengrasp_motion::Result;
 
@@ -127,6 +133,8 @@ struct KitchenParts {
     q_full: Vec<f64>,
     checker: CollisionChecker,
     certifier: SphereCertifier,
+    /// The conservative sphere model the planners search on.
+    model: SceneSphereModel,
 }
 
 fn kitchen_parts(group: &str, edit: impl FnOnce(&mut Scene) -> Result<()>) -> Result<KitchenParts> {
@@ -143,7 +151,24 @@ fn kitchen_parts(group: &str, edit: impl FnOnce(&mut Scene) -> Result<()>) -> Re
     let group = robot.group(group)?.clone();
     let checker = CollisionChecker::new(world, kitchen.robot, robot.clone(), group.clone(), q_full.clone())?;
     let certifier = certifier_for(&scene, kitchen.robot, &group, &q_full, &checker)?;
-    Ok(KitchenParts { robot, group, q_full, checker, certifier })
+    let model = planning_model_for(&scene, kitchen.robot, &group, &q_full, &checker)?;
+    Ok(KitchenParts { robot, group, q_full, checker, certifier, model })
+}
+
+/// The planning model of `checker`'s scene (built from `scene`, which must be the scene of the
+/// checker's world): the conservative sphere model ([`SceneSphereModel`], default options)
+/// with the checker's allowed pairs. Planners search on it; the exact `checker` judges.
+///
+/// # Errors
+/// As [`SceneSphereModel::new`].
+pub fn planning_model_for(
+    scene: &Scene,
+    robot: opengrasp_core::scene::RobotId,
+    group: &JointGroup,
+    q_full: &[f64],
+    checker: &CollisionChecker,
+) -> Result<SceneSphereModel> {
+    SceneSphereModel::new(scene, robot, group, q_full, checker.world(), &SceneModelOptions::default())
 }
 
 /// The post-processing certifier of `checker`'s scene (built from `scene`, which must be the
@@ -173,7 +198,8 @@ pub fn armar_standard_scene() -> BenchmarkScene {
         name: "standard (ARMAR-III kitchen)".into(),
         shared_environment: true,
         generate: Box::new(|_seed| {
-            let KitchenParts { robot, group, q_full, checker, certifier } = kitchen_parts("hip_right_arm", |_| Ok(()))?;
+            let KitchenParts { robot, group, q_full, checker, certifier, model } =
+                kitchen_parts("hip_right_arm", |_| Ok(()))?;
             let tip = robot.link_id("right_hand_palm")?;
             let goal = armar_standard_goal(&robot, &group, &q_full, &checker)?;
             Ok(SceneInstance {
@@ -184,7 +210,7 @@ pub fn armar_standard_scene() -> BenchmarkScene {
                 start: ARMAR_START.to_vec(),
                 goal: Goal::Configuration(goal),
                 checker: Box::new(checker),
-                planning_checker: None,
+                planning_checker: Some(Box::new(model)),
                 certifier: Some(Box::new(certifier)),
             })
         }),
@@ -240,7 +266,7 @@ pub const MAX_PLACEMENTS: usize = 20;
 fn armar_ik_instance(x: f64, y: f64, yaw: f64) -> Result<SceneInstance> {
     let z = 0.75 + 0.03;
     let pose = Isometry3::from_parts(Translation3::new(x, y, z), UnitQuaternion::from_euler_angles(0.0, 0.0, yaw));
-    let KitchenParts { robot, group, q_full, checker, certifier } = kitchen_parts("hip_right_arm", |scene| {
+    let KitchenParts { robot, group, q_full, checker, certifier, model } = kitchen_parts("hip_right_arm", |scene| {
         let shape = Shape::at_origin(Geometry::cuboid(0.06, 0.06, 0.06));
         scene.add_object(SceneObject::new("target_box", pose, vec![shape], 0.2))?;
         Ok(())
@@ -257,7 +283,7 @@ fn armar_ik_instance(x: f64, y: f64, yaw: f64) -> Result<SceneInstance> {
         start: ARMAR_START.to_vec(),
         goal,
         checker: Box::new(checker),
-        planning_checker: None,
+        planning_checker: Some(Box::new(model)),
         certifier: Some(Box::new(certifier)),
     })
 }

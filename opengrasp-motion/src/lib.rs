@@ -17,6 +17,8 @@
 //!   parry-based collision world ([`validity::CollisionChecker`]), a closed-form sphere model
 //!   ([`validity::SphereWorld`]) and the per-link [`validity::MotionBound`] used for
 //!   continuous checking.
+//! - [`scene_spheres`]: a conservative sphere model of a robot in a core scene, for planning
+//!   (exact geometry stays the judge).
 //! - [`planners`]: RRT-Connect, PRM (roadmap built in `setup`, reused across queries) and
 //!   IK-RRT, all seeded with `ChaCha8Rng`.
 //! - [`nearest`]: the [`nearest::NearestNeighbors`] trait, a bucket kd-tree (the planners'
@@ -88,6 +90,7 @@ pub mod problem;
 pub mod problem_builder;
 pub mod problem_set;
 pub mod protocol;
+pub mod scene_spheres;
 pub mod smoothing;
 pub mod validate;
 pub mod validity;

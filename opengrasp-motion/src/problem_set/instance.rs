@@ -4,7 +4,7 @@ use std::sync::Arc;
 
 use nalgebra::Isometry3;
 use opengrasp_core::collision::CollisionWorld;
-use opengrasp_core::model::{samples, Geometry, JointGroup, LinkId, Robot};
+use opengrasp_core::model::{samples, JointGroup, LinkId, Robot};
 use opengrasp_core::scene::{RobotId, Scene, StaticBody};
 use opengrasp_core::srdf::Srdf;
 use opengrasp_core::urdf::{self, LoadOptions, Visuals};
@@ -15,8 +15,7 @@ use crate::error::{MotionError, Result};
 use crate::problem::{Goal, PoseGoal};
 use crate::validity::cover::GreedyCoverOptions;
 use crate::validity::{
-    CollisionChecker, MeshCover, ObstaclePrimitive, ObstacleShape, SelfCollisionPairs, SphereWorld,
-    StateValidityChecker,
+    CollisionChecker, MeshCover, ObstaclePrimitive, SelfCollisionPairs, SphereWorld, StateValidityChecker,
 };
 
 /// What the planner of a problem-set instance checks states with. The benchmark's
@@ -319,27 +318,16 @@ impl LoadedProblemSet {
         let mut obstacles = Vec::new();
         for b in &p.bodies {
             for shape in &b.shapes {
-                let solid = match &shape.geometry {
-                    Geometry::Box { half_extents } => ObstacleShape::Box { half_extents: *half_extents },
-                    Geometry::Sphere { radius } => ObstacleShape::Sphere { radius: *radius },
-                    Geometry::Cylinder { radius, length } => {
-                        ObstacleShape::Cylinder { radius: *radius, half_length: length * 0.5 }
-                    }
-                    Geometry::Capsule { radius, length } => {
-                        ObstacleShape::Capsule { radius: *radius, half_length: length * 0.5 }
-                    }
-                    Geometry::Mesh(_) => {
-                        return Err(MotionError::InvalidParameter {
-                            name: "obstacle",
-                            reason: format!(
-                                "`{}` of problem `{}` is a mesh; the sphere model takes boxes, spheres, \
-                                 cylinders and capsules",
-                                b.name, p.name
-                            ),
-                        })
-                    }
-                };
-                obstacles.push(ObstaclePrimitive::new(b.name.clone(), b.pose * shape.origin, solid));
+                let solid = ObstaclePrimitive::from_geometry(b.name.clone(), b.pose * shape.origin, &shape.geometry)
+                    .map_err(|_| MotionError::InvalidParameter {
+                        name: "obstacle",
+                        reason: format!(
+                            "`{}` of problem `{}` is a mesh; the sphere model takes boxes, spheres, cylinders and \
+                             capsules",
+                            b.name, p.name
+                        ),
+                    })?;
+                obstacles.push(solid);
             }
         }
         model.for_problem(p.q_full.clone(), obstacles, &p.allowed)

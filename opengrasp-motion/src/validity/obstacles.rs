@@ -2,6 +2,7 @@
 //! distances (boxes, spheres, cylinders, capsules).
 
 use nalgebra::{Isometry3, Point3, Vector3};
+use opengrasp_core::model::Geometry;
 
 use super::soa::ObstacleFrame;
 use crate::error::{MotionError, Result};
@@ -77,6 +78,35 @@ impl ObstaclePrimitive {
     /// An obstacle from its name, world pose and shape.
     pub fn new(name: impl Into<String>, pose: Isometry3<f64>, shape: ObstacleShape) -> Self {
         Self { name: name.into(), pose, shape }
+    }
+
+    /// The obstacle of a core shape: `geometry` (a box, sphere, cylinder or capsule) placed at
+    /// `pose` (the pose of the geometry's own frame in the world).
+    ///
+    /// # Errors
+    /// [`MotionError::InvalidParameter`] naming the obstacle for a mesh (not a closed-form
+    /// solid: the caller chooses how to bound it).
+    pub fn from_geometry(name: impl Into<String>, pose: Isometry3<f64>, geometry: &Geometry) -> Result<Self> {
+        let shape = match geometry {
+            Geometry::Box { half_extents } => ObstacleShape::Box { half_extents: *half_extents },
+            Geometry::Sphere { radius } => ObstacleShape::Sphere { radius: *radius },
+            Geometry::Cylinder { radius, length } => {
+                ObstacleShape::Cylinder { radius: *radius, half_length: length * 0.5 }
+            }
+            Geometry::Capsule { radius, length } => {
+                ObstacleShape::Capsule { radius: *radius, half_length: length * 0.5 }
+            }
+            Geometry::Mesh(_) => {
+                return Err(MotionError::InvalidParameter {
+                    name: "obstacle",
+                    reason: format!(
+                        "`{}`: a mesh; the sphere model takes boxes, spheres, cylinders and capsules",
+                        name.into()
+                    ),
+                })
+            }
+        };
+        Ok(Self { name: name.into(), pose, shape })
     }
 
     /// Signed distance from a world point to the surface (negative inside).
