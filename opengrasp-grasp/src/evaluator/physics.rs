@@ -57,10 +57,16 @@ pub struct PhysicsCheckOptions {
     pub physics: PhysicsOptions,
 }
 
+/// The six axis directions ±x, ±y, ±z: the default gravity directions of the physics check
+/// and of the static hold test.
+pub(crate) fn axis_directions() -> Vec<Vector3<f64>> {
+    vec![Vector3::x(), -Vector3::x(), Vector3::y(), -Vector3::y(), Vector3::z(), -Vector3::z()]
+}
+
 impl Default for PhysicsCheckOptions {
     fn default() -> Self {
         Self {
-            directions: vec![Vector3::x(), -Vector3::x(), Vector3::y(), -Vector3::y(), Vector3::z(), -Vector3::z()],
+            directions: axis_directions(),
             gravity: 9.81,
             settle: 0.2,
             duration: 0.5,

@@ -58,7 +58,7 @@ pub struct StaticHoldOptions {
 impl Default for StaticHoldOptions {
     fn default() -> Self {
         Self {
-            directions: vec![Vector3::x(), -Vector3::x(), Vector3::y(), -Vector3::y(), Vector3::z(), -Vector3::z()],
+            directions: super::physics::axis_directions(),
             gravity: 9.81,
             friction: None,
             max_load_factor: 100.0,
