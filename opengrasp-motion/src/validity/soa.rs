@@ -165,6 +165,14 @@ pub(super) struct Scratch {
     /// state it is certified at.
     pub per_step: Vec<f64>,
     pub certified: Vec<u64>,
+    /// Buffers of the configuration-dependent motion bounds: `|Δqⱼ|` per step, the joint
+    /// axes of the current state, per link whether its prefix sums are computed at the
+    /// current state, and the sums.
+    pub steps: Vec<f64>,
+    pub axes: Vec<[f64; 6]>,
+    pub ready: Vec<bool>,
+    pub alpha: Vec<f64>,
+    pub beta: Vec<f64>,
 }
 
 thread_local! {
@@ -289,6 +297,17 @@ impl SphereSoa {
             oy[i] = m[4] * x + m[5] * y + m[6] * z + m[7];
             oz[i] = m[8] * x + m[9] * y + m[10] * z + m[11];
         }
+    }
+
+    /// Link `k`'s bounding-sphere centre in the world (after [`SphereSoa::begin`]).
+    #[inline]
+    pub fn link_centre(&self, k: usize, c: &Centres) -> [f64; 3] {
+        c.link[k]
+    }
+
+    /// Link `k`'s bounding sphere: centre in its chain frame, and radius.
+    pub fn link_bounds(&self, k: usize) -> (Point3<f64>, f64) {
+        (self.link_centre[k], self.link_radius[k])
     }
 
     /// The obstacles.

@@ -15,8 +15,9 @@ use super::{MotionBound, ObstacleBox, ObstaclePrimitive, StateValidityChecker};
 
 mod certified;
 mod lanes;
+mod reach;
 
-use certified::Test;
+use certified::Certificates;
 
 /// Which link pairs a [`SphereWorld`] checks for self-collision.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -85,10 +86,9 @@ pub struct SphereWorld {
     coarse: Option<(Arc<Covered>, SphereSoa)>,
     /// Whether batches and motions go through the multi-state kernels.
     batched: bool,
-    /// The tests of a state check and their motion weights (`tests.len() × dim`), and whether
-    /// motions skip tests their checked states certify ([`SphereWorld::with_certified_motions`]).
-    tests: Vec<Test>,
-    weights: Vec<f64>,
+    /// The tests of a state check and their motion bounds, and whether motions skip tests
+    /// their checked states certify ([`SphereWorld::with_certified_motions`]).
+    cert: Certificates,
     certify: bool,
 }
 
@@ -204,8 +204,7 @@ impl SphereWorld {
             soa,
             coarse: None,
             batched: false,
-            tests: Vec::new(),
-            weights: Vec::new(),
+            cert: Certificates::default(),
             certify: true,
         };
         Ok(world.with_self_collision(SelfCollisionPairs::default()))
@@ -469,7 +468,7 @@ impl SphereWorld {
             })
         });
         self.fixed_ok = self.soa.static_free_of_obstacles() && static_pairs_clear;
-        (self.tests, self.weights) = self.motion_tests();
+        self.cert = self.motion_tests();
     }
 
     /// The state check behind [`StateValidityChecker::is_valid`]: the compiled forward

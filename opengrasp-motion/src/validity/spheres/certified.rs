@@ -10,6 +10,9 @@
 //! whose tests are all certified is not computed at all. The verdict and the one-by-one count
 //! are those of checking every state in the default order.
 
+use nalgebra::{Point3, Vector3};
+
+use super::reach::{steps_within, LinkReach};
 use super::{SphereWorld, StateValidityChecker};
 use crate::validate::{interpolate_into, segment_subdivisions};
 use crate::validity::chain::Mat34;
@@ -29,23 +32,57 @@ pub(super) enum Test {
     Pair { a: usize, b: usize },
 }
 
+/// The tests of a state check with what certifies them along a motion.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Certificates {
+    /// The tests, as [`SphereWorld::check_state`] runs them (obstacles, then link pairs).
+    tests: Vec<Test>,
+    /// Per test one weight per group value: the test's distance changes by at most
+    /// `Σⱼ |Δqⱼ| wⱼ` over a straight motion by `Δq` (`tests.len() × dim`).
+    weights: Vec<f64>,
+    /// Per test its links and the index of their prefix sums in [`LinkReach`] (the frames
+    /// carrying one link and not the other).
+    own: Vec<[(usize, usize); 2]>,
+    reach: LinkReach,
+}
+
 impl SphereWorld {
-    /// The tests of a state check (obstacles, then link pairs, as
-    /// [`SphereWorld::check_state`] runs them) and, per test, one weight per group value:
-    /// the test's distance changes by at most `Σⱼ |Δqⱼ| wⱼ` over a straight motion by `Δq`.
-    pub(super) fn motion_tests(&self) -> (Vec<Test>, Vec<f64>) {
+    /// The tests of a state check and their motion bounds. The static radii bound the points
+    /// of both covers (the coarse spheres may reach past the fine ones).
+    pub(super) fn motion_tests(&self) -> Certificates {
         let dim = self.group.len();
-        let bound: &MotionBound = &self.bound;
-        let mut tests = Vec::new();
-        let mut weights = Vec::new();
+        let mut points: Vec<Vec<Point3<f64>>> = vec![Vec::new(); self.links.len()];
+        let coarse = self.coarse.as_ref().map(|(c, _)| c.spheres.as_slice()).unwrap_or_default();
+        for &(k, c, r) in self.spheres.iter().chain(coarse) {
+            // The sphere's bounding-box corners contain it.
+            points[k].extend((0..8).map(|s| {
+                let sign = |b: usize| if s & b == 0 { -r } else { r };
+                c + Vector3::new(sign(1), sign(2), sign(4))
+            }));
+        }
+        let bound =
+            MotionBound::new(&self.robot, &self.group, &self.links, &points).unwrap_or_else(|_| self.bound.clone());
+        // About each link's fine bounding-sphere centre, a sphere holding both covers.
+        let extent: Vec<f64> = (0..self.links.len())
+            .map(|k| {
+                let (c, r) = self.soa.link_bounds(k);
+                self.coarse.as_ref().map_or(r, |(_, coarse)| {
+                    let (cc, rc) = coarse.link_bounds(k);
+                    r.max(((cc - c).norm() + rc) * (1.0 + 1e-12))
+                })
+            })
+            .collect();
+        let reach = LinkReach::new(&self.chain, &self.links, &bound, &extent);
+        let mut cert = Certificates::default();
         for o in 0..self.obstacles.len() {
             for k in (0..self.links.len()).filter(|&k| !self.soa.is_static(k)) {
-                tests.push(Test::Obstacle { o, k });
-                weights.extend((0..dim).map(|j| bound.radius(k, j)));
+                cert.tests.push(Test::Obstacle { o, k });
+                cert.weights.extend((0..dim).map(|j| bound.radius(k, j)));
+                cert.own.push([(k, reach.index(k, reach.lineage_len(k))), (k, reach.index(k, 0))]);
             }
         }
         for &(a, b) in &self.moving_pairs {
-            tests.push(Test::Pair { a, b });
+            cert.tests.push(Test::Pair { a, b });
             let (la, lb) = (
                 self.chain.lineage(self.chain.link(self.links[a]).0),
                 self.chain.lineage(self.chain.link(self.links[b]).0),
@@ -54,13 +91,20 @@ impl SphereWorld {
             let own = |mine: &[(usize, usize)], other: &[(usize, usize)], j: usize| {
                 mine.iter().any(|&(f, d)| d == j && !other.iter().any(|&(g, _)| g == f))
             };
-            weights.extend((0..dim).map(|j| {
+            cert.weights.extend((0..dim).map(|j| {
                 let wa = if own(&la, &lb, j) { bound.radius(a, j) } else { 0.0 };
                 let wb = if own(&lb, &la, j) { bound.radius(b, j) } else { 0.0 };
                 wa + wb
             }));
+            // The frames carrying one link and not the other: a distal-first prefix of its
+            // lineage (the shared frames are the common tail down to the world).
+            let count = |mine: &[(usize, usize)], other: &[(usize, usize)]| {
+                mine.iter().take_while(|&&(f, _)| !other.iter().any(|&(g, _)| g == f)).count()
+            };
+            cert.own.push([(a, reach.index(a, count(&la, &lb))), (b, reach.index(b, count(&lb, &la)))]);
         }
-        (tests, weights)
+        cert.reach = reach;
+        cert
     }
 
     /// Runs `test` on the placed state (`frames`, fine and coarse centres begun): `None` if
@@ -108,14 +152,19 @@ impl SphereWorld {
         // Per test, the reciprocal of its bound per step (∞ if it cannot change), the bound
         // inflated against rounding.
         let dim = self.dim();
+        let cert = &self.cert;
         s.per_step.clear();
-        s.per_step.extend(self.weights.chunks_exact(dim.max(1)).map(|w| {
+        s.per_step.extend(cert.weights.chunks_exact(dim.max(1)).map(|w| {
             let d: f64 = w.iter().zip(a).zip(b).map(|((w, x), y)| w * (y - x).abs()).sum();
             n.max(1) as f64 / (d * (1.0 + 1e-9))
         }));
+        s.steps.clear();
+        s.steps.extend(a.iter().zip(b).map(|(x, y)| (y - x).abs() / n.max(1) as f64));
+        s.alpha.resize(cert.reach.len(), 0.0);
+        s.beta.resize(cert.reach.len(), 0.0);
         // Per test, a bit per state index: certified (bit 0, the start, is never checked).
         s.certified.clear();
-        s.certified.resize(self.tests.len(), 0);
+        s.certified.resize(cert.tests.len(), 0);
         let mut all = 0u64;
         let mut q = std::mem::take(&mut s.q);
         let mut verdict = (true, order.len() as u64);
@@ -134,8 +183,11 @@ impl SphereWorld {
             if let Some((_, coarse)) = &self.coarse {
                 coarse.begin(&s.frames, &mut s.coarse);
             }
+            s.ready.clear();
+            s.ready.resize(self.links.len(), false);
+            s.axes.clear();
             all = u64::MAX;
-            for (t, &test) in self.tests.iter().enumerate() {
+            for (t, &test) in cert.tests.iter().enumerate() {
                 let mut bits = s.certified[t];
                 if bits >> i & 1 == 0 {
                     let Some(gap) = self.test_gap(test, &s.frames, &mut s.centres, &mut s.coarse) else {
@@ -144,7 +196,10 @@ impl SphereWorld {
                     };
                     // States within reach of `i`: `⌊(gap − slack) / per step⌋`, saturating
                     // (negative → 0, ∞ → all).
-                    let reach = (((gap - SLACK) * s.per_step[t]) as usize).min(n);
+                    let mut reach = (((gap - SLACK) * s.per_step[t]) as usize).min(n);
+                    if reach < n {
+                        reach = reach.max(self.reach_at(t, gap - SLACK, n, s));
+                    }
                     let (lo, hi) = (i.saturating_sub(reach), (i + reach).min(n));
                     bits |= (u64::MAX >> (63 - hi)) & (u64::MAX << lo);
                     s.certified[t] = bits;
@@ -155,6 +210,28 @@ impl SphereWorld {
         s.q = q;
         s.order = order;
         Some(verdict)
+    }
+}
+
+impl SphereWorld {
+    /// The steps test `t`, passed with gap `g` (slack taken off) at the state placed in `s`,
+    /// certifies by the configuration-dependent bound ([`super::reach`]).
+    fn reach_at(&self, t: usize, g: f64, n: usize, s: &mut super::Scratch) -> usize {
+        let cert = &self.cert;
+        let (mut alpha, mut beta) = (0.0, 0.0);
+        for (k, idx) in cert.own[t] {
+            if !s.ready[k] {
+                if s.axes.is_empty() {
+                    cert.reach.world_axes(&s.frames, &mut s.axes);
+                }
+                s.ready[k] = true;
+                let centre = self.soa.link_centre(k, &s.centres);
+                cert.reach.prefix(k, &centre, &s.axes, &s.steps, &mut s.alpha, &mut s.beta);
+            }
+            alpha += s.alpha[idx];
+            beta += s.beta[idx];
+        }
+        steps_within(alpha, beta, g, n)
     }
 }
 
