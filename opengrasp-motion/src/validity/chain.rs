@@ -125,13 +125,6 @@ impl Chain {
         out
     }
 
-    /// The joint that moves frame `f ≥ 1`: its axis (in the frame, through its origin), the
-    /// factor `scale` of its value on the driving group value, and whether it is prismatic.
-    pub fn joint_of(&self, f: usize) -> ([f64; 3], f64, bool) {
-        let frame = &self.frames[f - 1];
-        (frame.axis, frame.scale, frame.prismatic)
-    }
-
     /// The world poses of every frame for group values `q` into `out` (frame 0 the identity).
     #[inline]
     pub fn frames(&self, q: &[f64], out: &mut Vec<Mat34>) {

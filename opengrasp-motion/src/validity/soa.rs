@@ -165,14 +165,6 @@ pub(super) struct Scratch {
     /// state it is certified at.
     pub per_step: Vec<f64>,
     pub certified: Vec<u64>,
-    /// Buffers of the configuration-dependent motion bounds: `|Δqⱼ|` per step, the joint
-    /// axes of the current state, per link whether its prefix sums are computed at the
-    /// current state, and the sums.
-    pub steps: Vec<f64>,
-    pub axes: Vec<[f64; 6]>,
-    pub ready: Vec<bool>,
-    pub alpha: Vec<f64>,
-    pub beta: Vec<f64>,
 }
 
 thread_local! {
@@ -297,17 +289,6 @@ impl SphereSoa {
             oy[i] = m[4] * x + m[5] * y + m[6] * z + m[7];
             oz[i] = m[8] * x + m[9] * y + m[10] * z + m[11];
         }
-    }
-
-    /// Link `k`'s bounding-sphere centre in the world (after [`SphereSoa::begin`]).
-    #[inline]
-    pub fn link_centre(&self, k: usize, c: &Centres) -> [f64; 3] {
-        c.link[k]
-    }
-
-    /// Link `k`'s bounding sphere: centre in its chain frame, and radius.
-    pub fn link_bounds(&self, k: usize) -> (Point3<f64>, f64) {
-        (self.link_centre[k], self.link_radius[k])
     }
 
     /// The obstacles.
@@ -447,7 +428,14 @@ impl SphereSoa {
                 let (xs, ys, zs, rs) = (&c.x[sb..eb], &c.y[sb..eb], &c.z[sb..eb], &self.r[sb..eb]);
                 let n = xs.len().min(ys.len()).min(zs.len()).min(rs.len());
                 let (ax, ay, az, ar) = (&c.x[sa..ea], &c.y[sa..ea], &c.z[sa..ea], &self.r[sa..ea]);
+                let (pb, qb) = (c.cluster[jb], self.cluster_radius[jb]);
                 for (((&x, &y), &z), &r) in ax.iter().zip(ay).zip(az).zip(ar) {
+                    // The sphere against cluster `jb`'s bounding sphere first.
+                    let g = gap(&[x, y, z], &pb, r + qb);
+                    if g > 0.0 {
+                        lb = lb.min(g);
+                        continue;
+                    }
                     let g = least(n, |j| {
                         ((xs[j] - x).powi(2) + (ys[j] - y).powi(2) + (zs[j] - z).powi(2)).sqrt() - r - rs[j]
                     });

@@ -15,7 +15,6 @@ use super::{MotionBound, ObstacleBox, ObstaclePrimitive, StateValidityChecker};
 
 mod certified;
 mod lanes;
-mod reach;
 
 use certified::Certificates;
 

@@ -10,9 +10,6 @@
 //! whose tests are all certified is not computed at all. The verdict and the one-by-one count
 //! are those of checking every state in the default order.
 
-use nalgebra::{Point3, Vector3};
-
-use super::reach::{steps_within, LinkReach};
 use super::{SphereWorld, StateValidityChecker};
 use crate::validate::{interpolate_into, segment_subdivisions};
 use crate::validity::chain::Mat34;
@@ -40,45 +37,27 @@ pub(super) struct Certificates {
     /// Per test one weight per group value: the test's distance changes by at most
     /// `Σⱼ |Δqⱼ| wⱼ` over a straight motion by `Δq` (`tests.len() × dim`).
     weights: Vec<f64>,
-    /// Per test its links and the index of their prefix sums in [`LinkReach`] (the frames
-    /// carrying one link and not the other).
-    own: Vec<[(usize, usize); 2]>,
-    reach: LinkReach,
 }
 
 impl SphereWorld {
-    /// The tests of a state check and their motion bounds. The static radii bound the points
-    /// of both covers (the coarse spheres may reach past the fine ones).
+    /// The tests of a state check and their motion bounds. The radii of [`MotionBound`] are
+    /// taken from the spheres of both covers (the coarse ones may reach past the fine ones),
+    /// each link's extent the largest `|c| + r` of its spheres.
     pub(super) fn motion_tests(&self) -> Certificates {
         let dim = self.group.len();
-        let mut points: Vec<Vec<Point3<f64>>> = vec![Vec::new(); self.links.len()];
+        // The largest distance of a sphere's point from its link's origin is `|c| + r`.
+        let mut extents = vec![0.0f64; self.links.len()];
         let coarse = self.coarse.as_ref().map(|(c, _)| c.spheres.as_slice()).unwrap_or_default();
         for &(k, c, r) in self.spheres.iter().chain(coarse) {
-            // The sphere's bounding-box corners contain it.
-            points[k].extend((0..8).map(|s| {
-                let sign = |b: usize| if s & b == 0 { -r } else { r };
-                c + Vector3::new(sign(1), sign(2), sign(4))
-            }));
+            extents[k] = extents[k].max((c.coords.norm() + r) * (1.0 + 1e-12));
         }
-        let bound =
-            MotionBound::new(&self.robot, &self.group, &self.links, &points).unwrap_or_else(|_| self.bound.clone());
-        // About each link's fine bounding-sphere centre, a sphere holding both covers.
-        let extent: Vec<f64> = (0..self.links.len())
-            .map(|k| {
-                let (c, r) = self.soa.link_bounds(k);
-                self.coarse.as_ref().map_or(r, |(_, coarse)| {
-                    let (cc, rc) = coarse.link_bounds(k);
-                    r.max(((cc - c).norm() + rc) * (1.0 + 1e-12))
-                })
-            })
-            .collect();
-        let reach = LinkReach::new(&self.chain, &self.links, &bound, &extent);
+        let bound = MotionBound::with_extents(&self.robot, &self.group, &self.links, &extents)
+            .unwrap_or_else(|_| self.bound.clone());
         let mut cert = Certificates::default();
         for o in 0..self.obstacles.len() {
             for k in (0..self.links.len()).filter(|&k| !self.soa.is_static(k)) {
                 cert.tests.push(Test::Obstacle { o, k });
                 cert.weights.extend((0..dim).map(|j| bound.radius(k, j)));
-                cert.own.push([(k, reach.index(k, reach.lineage_len(k))), (k, reach.index(k, 0))]);
             }
         }
         for &(a, b) in &self.moving_pairs {
@@ -96,14 +75,7 @@ impl SphereWorld {
                 let wb = if own(&lb, &la, j) { bound.radius(b, j) } else { 0.0 };
                 wa + wb
             }));
-            // The frames carrying one link and not the other: a distal-first prefix of its
-            // lineage (the shared frames are the common tail down to the world).
-            let count = |mine: &[(usize, usize)], other: &[(usize, usize)]| {
-                mine.iter().take_while(|&&(f, _)| !other.iter().any(|&(g, _)| g == f)).count()
-            };
-            cert.own.push([(a, reach.index(a, count(&la, &lb))), (b, reach.index(b, count(&lb, &la)))]);
         }
-        cert.reach = reach;
         cert
     }
 
@@ -158,10 +130,6 @@ impl SphereWorld {
             let d: f64 = w.iter().zip(a).zip(b).map(|((w, x), y)| w * (y - x).abs()).sum();
             n.max(1) as f64 / (d * (1.0 + 1e-9))
         }));
-        s.steps.clear();
-        s.steps.extend(a.iter().zip(b).map(|(x, y)| (y - x).abs() / n.max(1) as f64));
-        s.alpha.resize(cert.reach.len(), 0.0);
-        s.beta.resize(cert.reach.len(), 0.0);
         // Per test, a bit per state index: certified (bit 0, the start, is never checked).
         s.certified.clear();
         s.certified.resize(cert.tests.len(), 0);
@@ -183,9 +151,6 @@ impl SphereWorld {
             if let Some((_, coarse)) = &self.coarse {
                 coarse.begin(&s.frames, &mut s.coarse);
             }
-            s.ready.clear();
-            s.ready.resize(self.links.len(), false);
-            s.axes.clear();
             all = u64::MAX;
             for (t, &test) in cert.tests.iter().enumerate() {
                 let mut bits = s.certified[t];
@@ -196,10 +161,7 @@ impl SphereWorld {
                     };
                     // States within reach of `i`: `⌊(gap − slack) / per step⌋`, saturating
                     // (negative → 0, ∞ → all).
-                    let mut reach = (((gap - SLACK) * s.per_step[t]) as usize).min(n);
-                    if reach < n {
-                        reach = reach.max(self.reach_at(t, gap - SLACK, n, s));
-                    }
+                    let reach = (((gap - SLACK) * s.per_step[t]) as usize).min(n);
                     let (lo, hi) = (i.saturating_sub(reach), (i + reach).min(n));
                     bits |= (u64::MAX >> (63 - hi)) & (u64::MAX << lo);
                     s.certified[t] = bits;
@@ -210,28 +172,6 @@ impl SphereWorld {
         s.q = q;
         s.order = order;
         Some(verdict)
-    }
-}
-
-impl SphereWorld {
-    /// The steps test `t`, passed with gap `g` (slack taken off) at the state placed in `s`,
-    /// certifies by the configuration-dependent bound ([`super::reach`]).
-    fn reach_at(&self, t: usize, g: f64, n: usize, s: &mut super::Scratch) -> usize {
-        let cert = &self.cert;
-        let (mut alpha, mut beta) = (0.0, 0.0);
-        for (k, idx) in cert.own[t] {
-            if !s.ready[k] {
-                if s.axes.is_empty() {
-                    cert.reach.world_axes(&s.frames, &mut s.axes);
-                }
-                s.ready[k] = true;
-                let centre = self.soa.link_centre(k, &s.centres);
-                cert.reach.prefix(k, &centre, &s.axes, &s.steps, &mut s.alpha, &mut s.beta);
-            }
-            alpha += s.alpha[idx];
-            beta += s.beta[idx];
-        }
-        steps_within(alpha, beta, g, n)
     }
 }
 
