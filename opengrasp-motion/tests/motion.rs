@@ -344,6 +344,40 @@ fn motion_bound_of_a_planar_arm_matches_hand_computation() {
     assert!((bound.bound(1, &[0.1, -0.2]) - (0.1 * (0.5 + l1) + 0.2 * l1)).abs() < 1e-12);
 }
 
+/// `MotionBound::with_extents` from each link's largest corner norm gives the radii of
+/// `MotionBound::from_robot`; a larger extent grows every nonzero radius of its link (revolute
+/// joints) by the difference, and a length mismatch is a typed error.
+#[test]
+fn motion_bound_from_extents_matches_the_bound_from_points() {
+    let robot = samples::seven_dof_arm().unwrap();
+    let group = robot.group("arm").unwrap().clone();
+    let bound = MotionBound::from_robot(&robot, &group).unwrap();
+    let extents: Vec<f64> = bound
+        .links()
+        .iter()
+        .map(|&l| {
+            let corners = robot.link(l).collisions.iter().flat_map(|s| s.aabb_corners());
+            corners.map(|p| p.coords.norm()).fold(0.0, f64::max)
+        })
+        .collect();
+    let same = MotionBound::with_extents(&robot, &group, bound.links(), &extents).unwrap();
+    assert_eq!(same, bound);
+    let grown: Vec<f64> = extents.iter().map(|e| e + 0.25).collect();
+    let grown = MotionBound::with_extents(&robot, &group, bound.links(), &grown).unwrap();
+    for k in 0..bound.links().len() {
+        for j in 0..group.len() {
+            // The sample arm's joints are revolute: each radius moving the link grows.
+            let r = bound.radius(k, j);
+            let expected = if r > 0.0 { r + 0.25 } else { r };
+            assert!((grown.radius(k, j) - expected).abs() < 1e-12, "link {k}, joint {j}");
+        }
+    }
+    assert!(matches!(
+        MotionBound::with_extents(&robot, &group, bound.links(), &extents[1..]),
+        Err(MotionError::DimensionMismatch { .. })
+    ));
+}
+
 #[test]
 fn metrics_of_an_l_shaped_path() {
     let path = vec![vec![0.0, 0.0], vec![1.0, 0.0], vec![1.0, 1.0]];

@@ -36,10 +36,23 @@ impl MotionBound {
         if links.len() != link_points.len() {
             return Err(MotionError::DimensionMismatch { expected: links.len(), actual: link_points.len() });
         }
+        let extents: Vec<f64> =
+            link_points.iter().map(|points| points.iter().map(|p| p.coords.norm()).fold(0.0, f64::max)).collect();
+        Self::with_extents(robot, group, links, &extents)
+    }
+
+    /// As [`MotionBound::new`], with each link's geometry given by its extent: the largest
+    /// distance of a point of link `links[k]` from its frame origin (`extents[k]`).
+    ///
+    /// # Errors
+    /// [`MotionError::DimensionMismatch`] if `extents` and `links` differ in length.
+    pub fn with_extents(robot: &Robot, group: &JointGroup, links: &[LinkId], extents: &[f64]) -> Result<Self> {
+        if links.len() != extents.len() {
+            return Err(MotionError::DimensionMismatch { expected: links.len(), actual: extents.len() });
+        }
         let dim = group.len();
         let mut radii = vec![0.0; links.len() * dim];
-        for (k, (&link, points)) in links.iter().zip(link_points).enumerate() {
-            let extent = points.iter().map(|p| p.coords.norm()).fold(0.0, f64::max);
+        for (k, (&link, &extent)) in links.iter().zip(extents).enumerate() {
             let chain = robot.chain_to(link);
             // reach[c]: bound on the distance from joint chain[c]'s origin to any point of the link.
             let mut reach = vec![0.0; chain.len()];

@@ -428,7 +428,14 @@ impl SphereSoa {
                 let (xs, ys, zs, rs) = (&c.x[sb..eb], &c.y[sb..eb], &c.z[sb..eb], &self.r[sb..eb]);
                 let n = xs.len().min(ys.len()).min(zs.len()).min(rs.len());
                 let (ax, ay, az, ar) = (&c.x[sa..ea], &c.y[sa..ea], &c.z[sa..ea], &self.r[sa..ea]);
+                let (pb, qb) = (c.cluster[jb], self.cluster_radius[jb]);
                 for (((&x, &y), &z), &r) in ax.iter().zip(ay).zip(az).zip(ar) {
+                    // The sphere against cluster `jb`'s bounding sphere first.
+                    let g = gap(&[x, y, z], &pb, r + qb);
+                    if g > 0.0 {
+                        lb = lb.min(g);
+                        continue;
+                    }
                     let g = least(n, |j| {
                         ((xs[j] - x).powi(2) + (ys[j] - y).powi(2) + (zs[j] - z).powi(2)).sqrt() - r - rs[j]
                     });

@@ -29,23 +29,39 @@ pub(super) enum Test {
     Pair { a: usize, b: usize },
 }
 
+/// The tests of a state check with what certifies them along a motion.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Certificates {
+    /// The tests, as [`SphereWorld::check_state`] runs them (obstacles, then link pairs).
+    tests: Vec<Test>,
+    /// Per test one weight per group value: the test's distance changes by at most
+    /// `Σⱼ |Δqⱼ| wⱼ` over a straight motion by `Δq` (`tests.len() × dim`).
+    weights: Vec<f64>,
+}
+
 impl SphereWorld {
-    /// The tests of a state check (obstacles, then link pairs, as
-    /// [`SphereWorld::check_state`] runs them) and, per test, one weight per group value:
-    /// the test's distance changes by at most `Σⱼ |Δqⱼ| wⱼ` over a straight motion by `Δq`.
-    pub(super) fn motion_tests(&self) -> (Vec<Test>, Vec<f64>) {
+    /// The tests of a state check and their motion bounds. The radii of [`MotionBound`] are
+    /// taken from the spheres of both covers (the coarse ones may reach past the fine ones),
+    /// each link's extent the largest `|c| + r` of its spheres.
+    pub(super) fn motion_tests(&self) -> Certificates {
         let dim = self.group.len();
-        let bound: &MotionBound = &self.bound;
-        let mut tests = Vec::new();
-        let mut weights = Vec::new();
+        // The largest distance of a sphere's point from its link's origin is `|c| + r`.
+        let mut extents = vec![0.0f64; self.links.len()];
+        let coarse = self.coarse.as_ref().map(|(c, _)| c.spheres.as_slice()).unwrap_or_default();
+        for &(k, c, r) in self.spheres.iter().chain(coarse) {
+            extents[k] = extents[k].max((c.coords.norm() + r) * (1.0 + 1e-12));
+        }
+        let bound = MotionBound::with_extents(&self.robot, &self.group, &self.links, &extents)
+            .unwrap_or_else(|_| self.bound.clone());
+        let mut cert = Certificates::default();
         for o in 0..self.obstacles.len() {
             for k in (0..self.links.len()).filter(|&k| !self.soa.is_static(k)) {
-                tests.push(Test::Obstacle { o, k });
-                weights.extend((0..dim).map(|j| bound.radius(k, j)));
+                cert.tests.push(Test::Obstacle { o, k });
+                cert.weights.extend((0..dim).map(|j| bound.radius(k, j)));
             }
         }
         for &(a, b) in &self.moving_pairs {
-            tests.push(Test::Pair { a, b });
+            cert.tests.push(Test::Pair { a, b });
             let (la, lb) = (
                 self.chain.lineage(self.chain.link(self.links[a]).0),
                 self.chain.lineage(self.chain.link(self.links[b]).0),
@@ -54,13 +70,13 @@ impl SphereWorld {
             let own = |mine: &[(usize, usize)], other: &[(usize, usize)], j: usize| {
                 mine.iter().any(|&(f, d)| d == j && !other.iter().any(|&(g, _)| g == f))
             };
-            weights.extend((0..dim).map(|j| {
+            cert.weights.extend((0..dim).map(|j| {
                 let wa = if own(&la, &lb, j) { bound.radius(a, j) } else { 0.0 };
                 let wb = if own(&lb, &la, j) { bound.radius(b, j) } else { 0.0 };
                 wa + wb
             }));
         }
-        (tests, weights)
+        cert
     }
 
     /// Runs `test` on the placed state (`frames`, fine and coarse centres begun): `None` if
@@ -108,14 +124,15 @@ impl SphereWorld {
         // Per test, the reciprocal of its bound per step (∞ if it cannot change), the bound
         // inflated against rounding.
         let dim = self.dim();
+        let cert = &self.cert;
         s.per_step.clear();
-        s.per_step.extend(self.weights.chunks_exact(dim.max(1)).map(|w| {
+        s.per_step.extend(cert.weights.chunks_exact(dim.max(1)).map(|w| {
             let d: f64 = w.iter().zip(a).zip(b).map(|((w, x), y)| w * (y - x).abs()).sum();
             n.max(1) as f64 / (d * (1.0 + 1e-9))
         }));
         // Per test, a bit per state index: certified (bit 0, the start, is never checked).
         s.certified.clear();
-        s.certified.resize(self.tests.len(), 0);
+        s.certified.resize(cert.tests.len(), 0);
         let mut all = 0u64;
         let mut q = std::mem::take(&mut s.q);
         let mut verdict = (true, order.len() as u64);
@@ -135,7 +152,7 @@ impl SphereWorld {
                 coarse.begin(&s.frames, &mut s.coarse);
             }
             all = u64::MAX;
-            for (t, &test) in self.tests.iter().enumerate() {
+            for (t, &test) in cert.tests.iter().enumerate() {
                 let mut bits = s.certified[t];
                 if bits >> i & 1 == 0 {
                     let Some(gap) = self.test_gap(test, &s.frames, &mut s.centres, &mut s.coarse) else {
