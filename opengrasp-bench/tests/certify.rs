@@ -235,3 +235,86 @@ fn vertical_bounds_hold_on_random_motions() {
     assert_eq!(certifier.vertical_bound(bound.links().len(), &vec![0.0; group.len()]), None);
     assert_eq!(certifier.vertical_bound(0, &[0.0]), None);
 }
+
+/// Counts the exact per-link distance queries (the continuous validator's) of a checker.
+struct Counting<'a> {
+    inner: &'a dyn StateValidityChecker,
+    distances: std::cell::Cell<usize>,
+}
+
+impl StateValidityChecker for Counting<'_> {
+    fn dim(&self) -> usize {
+        self.inner.dim()
+    }
+    fn is_valid(&self, q: &[f64]) -> bool {
+        self.inner.is_valid(q)
+    }
+    fn link_distances(&self, q: &[f64], out: &mut Vec<f64>) -> bool {
+        self.distances.set(self.distances.get() + 1);
+        self.inner.link_distances(q, out)
+    }
+    fn motion_bound(&self) -> Option<&MotionBound> {
+        self.inner.motion_bound()
+    }
+    fn ccd_covers_self_collision(&self) -> bool {
+        self.inner.ccd_covers_self_collision()
+    }
+    fn residual_valid(&self, q: &[f64]) -> Option<bool> {
+        self.inner.residual_valid(q)
+    }
+}
+
+/// Long fast motions of the mobile base (so fast that the tolerance alone would not keep
+/// the continuous validator within its query budget): post-processing with the certifier
+/// gives exactly the exact procedure's paths, and certifies them (with the larger margin)
+/// instead of running the exact continuous check on each.
+#[test]
+fn long_base_motions_are_certified_with_the_exact_paths() {
+    let (scene, rid, robot, group, q) = kitchen("base_hip_right_arm");
+    let world = Arc::new(CollisionWorld::new(&scene).unwrap());
+    let checker = CollisionChecker::new(world, rid, robot.clone(), group.clone(), q.clone()).unwrap();
+    let certifier = certifier_for(&scene, rid, &group, &q, &checker).unwrap();
+    let limits = group.limits(&robot);
+    let bound = checker.motion_bound().unwrap().clone();
+    let budget = ValidationOptions::default().ccd.tolerance * ValidationOptions::default().ccd.max_queries as f64;
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let mut path = vec![group.extract(&q)];
+    let mut fast_segments = 0;
+    while path.len() < 6 {
+        let last = path.last().unwrap();
+        // Base anywhere, arm and hip within ±0.4 rad of the last waypoint.
+        let next: Vec<f64> =
+            last.iter()
+                .zip(&limits)
+                .enumerate()
+                .map(|(i, (v, (lo, hi)))| {
+                    if i < 3 {
+                        rng.random_range(*lo..=*hi)
+                    } else {
+                        (v + rng.random_range(-0.4..=0.4)).clamp(*lo, *hi)
+                    }
+                })
+                .collect();
+        if checker.is_valid(&next) {
+            let dq: Vec<f64> = last.iter().zip(&next).map(|(a, b)| b - a).collect();
+            let fastest = (0..bound.links().len()).map(|i| bound.bound(i, &dq)).fold(0.0, f64::max);
+            fast_segments += usize::from(fastest > budget);
+            path.push(next);
+        }
+    }
+    assert!(fast_segments >= 2, "{fast_segments} fast segments");
+    let options = BenchmarkOptions::default();
+    let so = postprocessing_options(&options, 0);
+    let run = |certifier: Option<&dyn SegmentCertifier>| {
+        let counting = Counting { inner: &checker, distances: std::cell::Cell::new(0) };
+        let (repaired, rs) = repair_with(&counting, certifier, &path, &limits, &so);
+        let (smoothed, ss) = shortcut_with(&counting, certifier, &repaired, &so);
+        (smoothed, rs, ss, counting.distances.get())
+    };
+    let (exact, exact_rs, exact_ss, exact_queries) = run(None);
+    let (fast, fast_rs, fast_ss, fast_queries) = run(Some(&certifier));
+    assert_eq!(fast, exact);
+    assert_eq!((fast_rs, fast_ss), (exact_rs, exact_ss));
+    println!("exact distance queries: {exact_queries} exact, {fast_queries} certified");
+    assert!(fast_queries * 10 < exact_queries, "{fast_queries} vs {exact_queries}");
+}
