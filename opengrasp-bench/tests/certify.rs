@@ -14,7 +14,7 @@ use opengrasp_motion::certify::{Certificate, SegmentCertifier, SphereCertifier};
 use opengrasp_motion::planners::RrtConnect;
 use opengrasp_motion::smoothing::{repair_with, shortcut_with};
 use opengrasp_motion::validate::{validate_path, ValidationOptions};
-use opengrasp_motion::validity::{CollisionChecker, MotionBound, StateValidityChecker};
+use opengrasp_motion::validity::{CollisionChecker, CountingChecker, MotionBound, StateValidityChecker};
 use opengrasp_motion::{MotionError, MotionPlanner};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -25,6 +25,26 @@ fn kitchen(group: &str) -> (Scene, RobotId, Arc<Robot>, JointGroup, Vec<f64>) {
     let robot = kitchen.scene.robot(kitchen.robot).unwrap().robot.clone();
     let group = robot.group(group).unwrap().clone();
     (kitchen.scene, kitchen.robot, robot, group, kitchen.start_configuration)
+}
+
+/// Clean the Table's group (base, hip, right arm) in the stock kitchen, with its exact
+/// checker and certifier.
+struct BaseKitchen {
+    scene: Scene,
+    rid: RobotId,
+    robot: Arc<Robot>,
+    group: JointGroup,
+    q: Vec<f64>,
+    checker: CollisionChecker,
+    certifier: SphereCertifier,
+}
+
+fn base_kitchen() -> BaseKitchen {
+    let (scene, rid, robot, group, q) = kitchen("base_hip_right_arm");
+    let world = Arc::new(CollisionWorld::new(&scene).unwrap());
+    let checker = CollisionChecker::new(world, rid, robot.clone(), group.clone(), q.clone()).unwrap();
+    let certifier = certifier_for(&scene, rid, &group, &q, &checker).unwrap();
+    BaseKitchen { scene, rid, robot, group, q, checker, certifier }
 }
 
 /// Random segments of length up to `reach` from random valid states; returns (certified,
@@ -173,10 +193,7 @@ fn unsupported_scenes_are_typed_errors() {
 /// bound of 0, though every link moves.
 #[test]
 fn vertical_bounds_hold_on_random_motions() {
-    let (scene, rid, robot, group, q) = kitchen("base_hip_right_arm");
-    let world = Arc::new(CollisionWorld::new(&scene).unwrap());
-    let checker = CollisionChecker::new(world, rid, robot.clone(), group.clone(), q.clone()).unwrap();
-    let certifier = certifier_for(&scene, rid, &group, &q, &checker).unwrap();
+    let BaseKitchen { scene, rid, robot, group, q, checker, certifier } = base_kitchen();
     let bound = checker.motion_bound().unwrap();
     let base_pose = scene.robot(rid).unwrap().base_pose;
     let limits = group.limits(&robot);
@@ -234,4 +251,56 @@ fn vertical_bounds_hold_on_random_motions() {
     assert!(checked > 10_000 && tighter > 1000, "{checked} {tighter}");
     assert_eq!(certifier.vertical_bound(bound.links().len(), &vec![0.0; group.len()]), None);
     assert_eq!(certifier.vertical_bound(0, &[0.0]), None);
+}
+
+/// Long fast motions of the mobile base (so fast that the tolerance alone would not keep
+/// the continuous validator within its query budget): post-processing with the certifier
+/// gives exactly the exact procedure's paths, and certifies them (with the larger margin)
+/// instead of running the exact continuous check on each.
+#[test]
+fn long_base_motions_are_certified_with_the_exact_paths() {
+    let BaseKitchen { robot, group, q, checker, certifier, .. } = base_kitchen();
+    let limits = group.limits(&robot);
+    let bound = checker.motion_bound().unwrap().clone();
+    let budget = ValidationOptions::default().ccd.tolerance * ValidationOptions::default().ccd.max_queries as f64;
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let mut path = vec![group.extract(&q)];
+    let mut fast_segments = 0;
+    while path.len() < 6 {
+        let last = path.last().unwrap();
+        // Base anywhere, arm and hip within ±0.4 rad of the last waypoint.
+        let next: Vec<f64> =
+            last.iter()
+                .zip(&limits)
+                .enumerate()
+                .map(|(i, (v, (lo, hi)))| {
+                    if i < 3 {
+                        rng.random_range(*lo..=*hi)
+                    } else {
+                        (v + rng.random_range(-0.4..=0.4)).clamp(*lo, *hi)
+                    }
+                })
+                .collect();
+        if checker.is_valid(&next) {
+            let dq: Vec<f64> = last.iter().zip(&next).map(|(a, b)| b - a).collect();
+            let fastest = (0..bound.links().len()).map(|i| bound.bound(i, &dq)).fold(0.0, f64::max);
+            fast_segments += usize::from(fastest > budget);
+            path.push(next);
+        }
+    }
+    assert!(fast_segments >= 2, "{fast_segments} fast segments");
+    let options = BenchmarkOptions::default();
+    let so = postprocessing_options(&options, 0);
+    let run = |certifier: Option<&dyn SegmentCertifier>| {
+        let counting = CountingChecker::new(&checker);
+        let (repaired, rs) = repair_with(&counting, certifier, &path, &limits, &so);
+        let (smoothed, ss) = shortcut_with(&counting, certifier, &repaired, &so);
+        (smoothed, rs, ss, counting.distance_queries())
+    };
+    let (exact, exact_rs, exact_ss, exact_queries) = run(None);
+    let (fast, fast_rs, fast_ss, fast_queries) = run(Some(&certifier));
+    assert_eq!(fast, exact);
+    assert_eq!((fast_rs, fast_ss), (exact_rs, exact_ss));
+    println!("exact distance queries: {exact_queries} exact, {fast_queries} certified");
+    assert!(fast_queries * 10 < exact_queries, "{fast_queries} vs {exact_queries}");
 }

@@ -128,11 +128,13 @@ impl<'a> SegmentCheck<'a> {
     /// - `Some(true)` if the certifier proves `a → b` free with a margin that makes every
     ///   exact validator accept it: every state is collision-free, so both discrete checks
     ///   (and the strict check's residual) accept; every link the group moves stays at least
-    ///   `tolerance + slack` from the obstacles and the links it does not move keep their
-    ///   distance, checked once against the tolerance (as are, by one exact state check, the
-    ///   self pairs no group joint moves apart), so the continuous validator never sees
-    ///   a distance under its tolerance; and its steps are at least `tolerance / max_i B_i`
-    ///   long, so it finishes within its query budget (checked here) and accepts.
+    ///   `m + slack` from the obstacles, with `m` the larger of the tolerance and
+    ///   `max_i B_i / (max_queries − 3)`, and the links it does not move keep their distance,
+    ///   checked once against the tolerance (as are, by one exact state check, the self pairs
+    ///   no group joint moves apart), so the continuous validator never sees a distance under
+    ///   its tolerance; and its steps (`min_i d_i / B_i` over the moving links) are at least
+    ///   `m / max_i B_i` long, so it reaches the end within `max_queries − 2` queries and
+    ///   accepts.
     fn decided(&self, a: &[f64], b: &[f64]) -> Option<bool> {
         let certifier = self.certifier?;
         let bound = self.checker.motion_bound()?;
@@ -140,12 +142,19 @@ impl<'a> SegmentCheck<'a> {
             return Some(false);
         }
         let tolerance = self.ccd.tolerance.max(0.0);
-        let margin = tolerance + CERTIFIER_SLACK;
         let dq: Vec<f64> = a.iter().zip(b).map(|(x, y)| y - x).collect();
         let fastest = (0..bound.links().len()).map(|i| bound.bound(i, &dq)).fold(0.0, f64::max);
-        if self.options.certify && fastest / margin + 2.0 > self.ccd.max_queries as f64 {
-            return None;
-        }
+        let margin = if self.options.certify {
+            // A long fast motion needs a margin above the tolerance for the continuous
+            // validator's steps (at least margin / fastest) to fit its query budget.
+            let budget = self.ccd.max_queries as f64 - 3.0;
+            if budget <= 0.0 {
+                return None;
+            }
+            tolerance.max(fastest / budget) + CERTIFIER_SLACK
+        } else {
+            tolerance + CERTIFIER_SLACK
+        };
         // What no group joint moves is the same at every state: decide it once, at the first
         // segment's start (a valid state clears its fixed self pairs).
         let static_clear = self.static_clear.get().unwrap_or_else(|| {

@@ -38,11 +38,27 @@ struct Scratch {
     /// Certified horizon of each model and of each pair.
     horizon: Vec<f64>,
     pair_horizon: Vec<f64>,
+    /// The models and pairs whose horizon is still before the end of the motion (a horizon
+    /// only grows, so the others are certified to the end and never evaluated again).
+    active: Vec<usize>,
+    active_pairs: Vec<usize>,
     /// Models to refine by an exact query and their model times; the links selected for it,
     /// its distances.
     refine: Vec<(usize, f64)>,
     selected: Vec<bool>,
     exact: Vec<f64>,
+}
+
+impl Scratch {
+    /// The earliest horizon of the models and pairs, or any value of at least 1 if every one
+    /// reaches the end of the motion; drops those that do from the active lists.
+    fn earliest_horizon(&mut self) -> f64 {
+        let Self { horizon, pair_horizon, active, active_pairs, .. } = self;
+        active.retain(|&k| horizon[k] < 1.0);
+        active_pairs.retain(|&p| pair_horizon[p] < 1.0);
+        let models = active.iter().map(|&k| horizon[k]);
+        models.chain(active_pairs.iter().map(|&p| pair_horizon[p])).fold(f64::INFINITY, f64::min)
+    }
 }
 
 /// A step could not advance: a bound is at most the margin.
@@ -77,6 +93,8 @@ impl SphereCertifier {
             ranges,
             horizon: vec![0.0; self.models.len()],
             pair_horizon: vec![0.0; self.pairs.len()],
+            active: (0..self.models.len()).collect(),
+            active_pairs: (0..self.pairs.len()).collect(),
             ..Scratch::default()
         }
     }
@@ -223,7 +241,8 @@ impl SphereCertifier {
         let remaining = 1.0 - t + 1e-9;
         let refine_below = if self.exact.is_some() { remaining.min(EXACT_BELOW) } else { f64::NEG_INFINITY };
         scratch.refine.clear();
-        for k in 0..self.models.len() {
+        for a in 0..scratch.active.len() {
+            let k = scratch.active[a];
             if scratch.horizon[k] > until {
                 continue;
             }
@@ -244,7 +263,8 @@ impl SphereCertifier {
         if !scratch.refine.is_empty() {
             self.refine(scratch, motion, margin, t)?;
         }
-        for p in 0..self.pairs.len() {
+        for a in 0..scratch.active_pairs.len() {
+            let p = scratch.active_pairs[a];
             if scratch.pair_horizon[p] > until {
                 continue;
             }
@@ -309,7 +329,7 @@ impl SegmentCertifier for SphereCertifier {
                 return Certificate::Unknown { near: Some(t) };
             }
             last = t;
-            t = scratch.horizon.iter().chain(&scratch.pair_horizon).fold(f64::INFINITY, |m, &h| m.min(h));
+            t = scratch.earliest_horizon();
             if t >= 1.0 {
                 return Certificate::Free;
             }

@@ -168,6 +168,61 @@ pub(super) fn box_box(
     best
 }
 
+/// Support of a solid cylinder (unit axis `axis`, radius `r`, half length `l`, centred at the
+/// origin) along the unit direction `u`: `l |a·u| + r √(1 − (a·u)²)`.
+fn cylinder_support(axis: &Vector3<f64>, r: f64, l: f64, u: &Vector3<f64>) -> f64 {
+    let c = axis.dot(u).clamp(-1.0, 1.0);
+    l * c.abs() + r * (1.0 - c * c).max(0.0).sqrt()
+}
+
+/// Lower bound on the distance between a cylinder and a box: the largest gap along a few
+/// separating axes (the gap along a unit axis never exceeds the distance), with the
+/// cylinder's own support (not its box's): the direction from the box's point nearest the
+/// cylinder's centre to that centre, the box's face normals, the cylinder's axis and its
+/// cross products with the box's axes. Exact for an upright cylinder beside a face or a
+/// vertical edge of a box it overlaps in height. Stops at the first gap of at least `enough`.
+pub(super) fn cylinder_box(
+    (c, rot, r, l): (&Vector3<f64>, &Matrix3<f64>, f64, f64),
+    (cb, rb, hb): (&Vector3<f64>, &Matrix3<f64>, &Vector3<f64>),
+    enough: f64,
+) -> f64 {
+    let axis = rot.column(2).into_owned();
+    let t = cb - c;
+    let gap = |u: &Vector3<f64>| {
+        let box_support =
+            hb.x * rb.column(0).dot(u).abs() + hb.y * rb.column(1).dot(u).abs() + hb.z * rb.column(2).dot(u).abs();
+        t.dot(u).abs() - box_support - cylinder_support(&axis, r, l, u)
+    };
+    let mut best = f64::NEG_INFINITY;
+    let local = rb.tr_mul(&(c - cb));
+    let off = rb * (local - local.sup(&-hb).inf(hb));
+    let n = off.norm();
+    if n > 1e-12 {
+        best = gap(&(off / n));
+        if best >= enough {
+            return best;
+        }
+    }
+    for k in 0..3 {
+        best = best.max(gap(&rb.column(k).into_owned()));
+        if best >= enough {
+            return best;
+        }
+    }
+    best = best.max(gap(&axis));
+    for k in 0..3 {
+        let u = axis.cross(&rb.column(k));
+        let n = u.norm();
+        if best >= enough {
+            return best;
+        }
+        if n > 1e-9 {
+            best = best.max(gap(&(u / n)));
+        }
+    }
+    best
+}
+
 /// Lower bound on the distance between two placed primitives (≤ 0 when they may overlap);
 /// any value of at least `enough` may be returned once the bound reaches it.
 pub(super) fn distance(a: &Placed, b: &Placed, enough: f64) -> f64 {
@@ -178,23 +233,17 @@ pub(super) fn distance(a: &Placed, b: &Placed, enough: f64) -> f64 {
         }
         (Placed::Ball(p, rad), Placed::Cylinder(c, rot, r, l))
         | (Placed::Cylinder(c, rot, r, l), Placed::Ball(p, rad)) => point_cylinder(p, c, rot, *r, *l) - rad,
-        (Placed::Cylinder(c, rot, r, l), other) | (other, Placed::Cylinder(c, rot, r, l)) => {
-            // The cylinder's box, and the other shape's bounding ball against the cylinder.
-            let (oc, or) = match other {
-                Placed::Box(oc, _, h) => (oc, h.norm()),
-                Placed::Cylinder(oc, _, r2, l2) => (oc, r2.hypot(*l2)),
-                Placed::Ball(oc, or) => (oc, *or),
-            };
-            let ball = point_cylinder(oc, c, rot, *r, *l) - or;
+        (Placed::Cylinder(c, rot, r, l), Placed::Box(cb, rb, hb))
+        | (Placed::Box(cb, rb, hb), Placed::Cylinder(c, rot, r, l)) => {
+            cylinder_box((c, rot, *r, *l), (cb, rb, hb), enough)
+        }
+        (Placed::Cylinder(c, rot, r, l), Placed::Cylinder(c2, rot2, r2, l2)) => {
+            // The second one's bounding ball, then its box, against the first.
+            let ball = point_cylinder(c2, c, rot, *r, *l) - r2.hypot(*l2);
             if ball >= enough {
                 return ball;
             }
-            let boxed = Placed::Box(*c, *rot, Vector3::new(*r, *r, *l));
-            let other = match other {
-                Placed::Cylinder(c2, rot2, r2, l2) => Placed::Box(*c2, *rot2, Vector3::new(*r2, *r2, *l2)),
-                o => *o,
-            };
-            distance(&boxed, &other, enough).max(ball)
+            cylinder_box((c, rot, *r, *l), (c2, rot2, &Vector3::new(*r2, *r2, *l2)), enough).max(ball)
         }
         (Placed::Box(c1, r1, h1), Placed::Box(c2, r2, h2)) => {
             // The first box's bounding ball against the second box, then the axes.

@@ -12,12 +12,15 @@
 //!
 //! - **robot**: every collision shape of every link is replaced by primitives that contain it —
 //!   a sphere by itself, a capsule by balls along its axis (radius `√(r² + (s/2)²)` at spacing
-//!   `s`, which contains the capsule), every other shape (box, cylinder, mesh) by the oriented
-//!   box of its local bounding box; objects carried by the robot likewise, on their link;
-//! - **obstacles**: every static body's and free object's shape by its oriented bounding box;
+//!   `s`, which contains the capsule), a cylinder by itself, every other shape (box, mesh) by
+//!   the oriented box of its local bounding box; objects carried by the robot likewise, on
+//!   their link;
+//! - **obstacles**: every static body's and free object's shape likewise;
 //! - **distances**: lower bounds only — ball–box and ball–ball exactly, box–box by the largest
 //!   separating-axis gap over the 15 axes of the pair (the gap along a unit axis never exceeds
-//!   the distance);
+//!   the distance), cylinder–box by the gap over a few axes with the cylinder's own support
+//!   function (exact for an upright cylinder beside a box face or vertical edge, e.g. a mobile
+//!   base passing furniture);
 //! - **motion**: conservative advancement (as [`segment_valid_continuous`]) with the same
 //!   per-link [`MotionBound`] as the exact validator: link `i` is certified against an
 //!   obstacle on `[t, t + (d̃ᵢ − m) / Bᵢ]` where `d̃ᵢ` is its lower bound and `m` the margin;

@@ -30,6 +30,37 @@ fn box_bounds_are_exact_for_face_separated_boxes() {
     assert!(d > 0.0 && d <= (corner - Vector3::new(0.1, 0.2, 0.0)).norm() + 1e-12, "{d}");
 }
 
+/// The cylinder–box bound uses the cylinder's own support: an upright cylinder beside a
+/// turned box's face or vertical edge gets the exact distance whatever its own yaw (its
+/// bounding box would lose up to (√2 − 1) r), and a cylinder pair is bounded through the
+/// second one's box.
+#[test]
+fn upright_cylinder_beside_a_box_gets_the_exact_distance() {
+    let (bc, rot, h) =
+        (Vector3::new(1.0, 0.5, 0.45), Rotation3::from_euler_angles(0.0, 0.0, 0.4), Vector3::new(0.4, 0.3, 0.45));
+    let table = placed_box(bc, rot, h);
+    let (r, l) = (0.35, 0.05);
+    let edge = Vector3::new(1.0, 1.0, 0.0).normalize();
+    for yaw in [0.0, 0.3, std::f64::consts::FRAC_PI_4, 2.0] {
+        let upright = Rotation3::from_euler_angles(0.0, 0.0, yaw).into_inner();
+        // Beside the +x face, 7 cm away, below mid height.
+        let beside = bc + rot * Vector3::new(h.x + 0.07 + r, 0.1, -0.2);
+        let d = distance(&Placed::Cylinder(beside, upright, r, l), &table, f64::INFINITY);
+        assert!((d - 0.07).abs() < 1e-12, "face, yaw {yaw}: {d}");
+        // Beside the (+x, +y) vertical edge, 5 cm away diagonally.
+        let corner = bc + rot * (Vector3::new(h.x, h.y, 0.0) + edge * (0.05 + r));
+        let d = distance(&table, &Placed::Cylinder(corner, upright, r, l), f64::INFINITY);
+        assert!((d - 0.05).abs() < 1e-12, "edge, yaw {yaw}: {d}");
+        // A thin upright cylinder 4 cm from the big one's side: its box is 1.5 cm wide.
+        let can = Placed::Cylinder(beside + Vector3::new(r + 0.04 + 0.015, 0.0, 0.0), upright, 0.015, 0.1);
+        let d = distance(&Placed::Cylinder(beside, upright, r, l), &can, f64::INFINITY);
+        assert!(
+            d > 0.04 - 0.015 * (std::f64::consts::SQRT_2 - 1.0) - 1e-12 && d <= 0.04 + 1e-12,
+            "pair, yaw {yaw}: {d}"
+        );
+    }
+}
+
 /// The balls of a capsule contain it: points on its surface and axis are inside a ball,
 /// and no ball reaches farther than 6.8 % of the radius beyond it.
 #[test]

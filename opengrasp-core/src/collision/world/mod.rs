@@ -1,6 +1,7 @@
 //! The collision world: construction and synchronisation with a scene ([`queries`] answers
 //! the queries, [`narrow`] tests shape pairs).
 
+mod distances;
 mod narrow;
 mod queries;
 
@@ -68,6 +69,8 @@ struct RobotEntry {
     parts: Vec<Part>,
     /// The link of each part.
     part_link: Vec<LinkId>,
+    /// The range of each link's parts in `parts`, by link.
+    link_parts: Vec<(u32, u32)>,
     /// Allowed-collision matrix, `n_links × n_links`, row-major.
     allowed: Vec<bool>,
     /// Part pairs `(i, j)`, `i < j`, checked for self-collision (different, non-allowed links).
@@ -135,6 +138,10 @@ struct Item {
 #[derive(Default)]
 struct Scratch {
     link_poses: Vec<Isometry3<f64>>,
+    /// Per link: placed by the current query (see `CollisionWorld::place_links`).
+    links: Vec<bool>,
+    /// Per joint: on the chain of a placed link.
+    joints: Vec<bool>,
     items: Vec<Item>,
     /// `(lower bound, item index)` for the distance search.
     order: Vec<(f64, u32)>,
@@ -250,11 +257,14 @@ impl CollisionWorld {
             let n = robot.links().len();
             let mut parts = Vec::new();
             let mut part_link = Vec::new();
+            let mut link_parts = Vec::with_capacity(n);
             for (l, link) in robot.links().iter().enumerate() {
+                let start = parts.len() as u32;
                 for p in shapes_to_parts(&link.collisions, options.meshes)? {
                     parts.push(p);
                     part_link.push(LinkId(l));
                 }
+                link_parts.push((start, parts.len() as u32));
             }
             let mut allowed = vec![false; n * n];
             for a in 0..n {
@@ -268,6 +278,7 @@ impl CollisionWorld {
                 q: r.q.clone(),
                 parts,
                 part_link,
+                link_parts,
                 allowed,
                 self_pairs: Vec::new(),
                 world: Vec::new(),
@@ -520,36 +531,4 @@ const _: fn() = || {
 };
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::model::{samples, Geometry, Shape};
-    use crate::scene::StaticBody;
-
-    #[test]
-    fn selected_link_distances_match_the_full_query() {
-        let mut scene = Scene::new("selected");
-        let arm = scene.add_robot("arm", Arc::new(samples::seven_dof_arm().unwrap()), Isometry3::identity()).unwrap();
-        let wall = Shape::at_origin(Geometry::cuboid(0.05, 1.0, 1.0));
-        scene.add_body(StaticBody::new("wall", Isometry3::translation(0.6, 0.0, 0.5), vec![wall])).unwrap();
-        let world = CollisionWorld::new(&scene).unwrap();
-        let q = [0.3, 0.8, -0.2, 0.5, 0.1, 0.4, 0.0];
-        let full = world.link_distances(arm, &q).unwrap();
-        let selected: Vec<bool> = (0..full.len()).map(|l| l % 2 == 1).collect();
-        let mut out = Vec::new();
-        world.selected_link_distances_into(arm, &q, &selected, &mut out).unwrap();
-        assert_eq!(out.len(), full.len());
-        for (l, (&a, &b)) in full.iter().zip(&out).enumerate() {
-            if selected[l] {
-                assert_eq!(a, b, "link {l}");
-            } else {
-                assert_eq!(b, f64::INFINITY, "link {l}");
-            }
-        }
-        assert!(full.iter().any(|d| d.is_finite()));
-        // A short mask leaves the remaining links unqueried; bad configurations are errors.
-        world.selected_link_distances_into(arm, &q, &[true], &mut out).unwrap();
-        assert_eq!(out[0], full[0]);
-        assert!(out[1..].iter().all(|d| *d == f64::INFINITY));
-        assert!(world.selected_link_distances_into(arm, &q[..3], &selected, &mut out).is_err());
-    }
-}
+mod tests;

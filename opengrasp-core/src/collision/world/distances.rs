@@ -1,0 +1,258 @@
+//! Distance queries of a placed robot: the nearest obstacle, per-link distances (of every
+//! link, or of a few with forward kinematics only along their chains).
+
+use std::ops::ControlFlow;
+
+use parry3d_f64::query;
+
+use super::narrow::{aabb_distance, distance, distance_below, Placed};
+use super::{with_scratch, CollisionWorld, Item, Nearest, Obstacle, Owner, Scratch};
+use crate::collision::{Collider, DistanceReport};
+use crate::error::{CoreError, Result};
+use crate::scene::{ObjectId, RobotId};
+
+impl CollisionWorld {
+    /// Lower bound of the distance from one item to the obstacles: the distance between its
+    /// AABB and the nearest obstacle AABB (`+inf` without obstacles).
+    pub(super) fn item_lower_bound(&self, rid: usize, item: &Item) -> f64 {
+        let mut lb = self
+            .env_bvh
+            .find_best(
+                f64::INFINITY,
+                |node, _| aabb_distance(&node.aabb(), &item.aabb),
+                |leaf, _| Some(aabb_distance(&self.env[leaf as usize].aabb, &item.aabb)),
+            )
+            .map_or(f64::INFINITY, |(_, d)| d);
+        let _ = self.visit_dynamic(rid, |o| {
+            lb = lb.min(aabb_distance(o.aabb, &item.aabb));
+            ControlFlow::Continue(())
+        });
+        lb
+    }
+
+    /// Nearest obstacle of one item if nearer than `bound` (branch and bound over the
+    /// hierarchy, nearest AABB first); distances are ≥ 0 (0 when touching or overlapping).
+    pub(super) fn item_min_distance(&self, rid: usize, item: &Item, bound: f64) -> Option<Nearest<'_>> {
+        let placed = self.item_placed(rid, item);
+        let mut best: Option<Nearest<'_>> = None;
+        let mut bound = bound;
+        if let Some((leaf, d)) = self.env_bvh.find_best(
+            bound,
+            |node, _| aabb_distance(&node.aabb(), &item.aabb),
+            |leaf, best| {
+                let e = &self.env[leaf as usize];
+                let other = Placed { pose: &e.pose, shape: &*e.part.shape, hull: e.part.hull.as_deref() };
+                distance_below(placed, other, best)
+            },
+        ) {
+            bound = d;
+            let e = &self.env[leaf as usize];
+            best = Some(Nearest { distance: d, id: Collider::Body(e.body), pose: e.pose, shape: &*e.part.shape });
+        }
+        // Movable obstacles nearest bounding box first, so that the bound tightens early and
+        // the farther ones are skipped without an exact query.
+        let mut near: Vec<(f64, Obstacle<'_>)> = Vec::new();
+        let _ = self.visit_dynamic(rid, |o| {
+            let lb = aabb_distance(o.aabb, &item.aabb);
+            if lb < bound {
+                near.push((lb, o));
+            }
+            ControlFlow::Continue(())
+        });
+        near.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for (lb, o) in near {
+            if lb >= bound {
+                break;
+            }
+            if let Some(d) = distance_below(placed, o.placed(), bound) {
+                bound = d;
+                best = Some(Nearest { distance: d, id: o.id, pose: *o.pose, shape: o.shape });
+            }
+        }
+        best
+    }
+
+    /// Deepest penetration of one item into any obstacle: `(depth > 0, contact)` with the
+    /// contact oriented item → obstacle.
+    pub(super) fn item_deepest_penetration(&self, rid: usize, item: &Item) -> Option<(Collider, query::Contact)> {
+        let shape = self.item_shape(rid, item);
+        let mut best: Option<(Collider, query::Contact)> = None;
+        let _ = self.visit_near(rid, &item.aabb, 0.0, |o| {
+            // Separated pairs are skipped with the (cheaper) distance before running EPA.
+            if distance(&item.pose, shape, o.pose, o.shape).is_some_and(|d| d > 0.0) {
+                return ControlFlow::Continue(());
+            }
+            if let Ok(Some(c)) = query::contact(&item.pose, shape, o.pose, o.shape, 0.0) {
+                if c.dist <= 0.0 && best.as_ref().is_none_or(|(_, b)| c.dist < b.dist) {
+                    best = Some((o.id, c));
+                }
+            }
+            ControlFlow::Continue(())
+        });
+        best
+    }
+
+    /// Minimum distance from the robot at `q` (links and attached objects) to its obstacles —
+    /// static bodies, objects it does not carry, other robots — with the closest pair and
+    /// witness points. Self-distance is not included.
+    ///
+    /// The distance is the gap when separated and `-depth` of the most deeply penetrating pair
+    /// when the robot overlaps an obstacle (`0` when exactly touching). The search is
+    /// branch-and-bound: links are visited with the best distance found so far as a bound, and
+    /// any obstacle whose bounding box is farther than the bound is skipped without an exact
+    /// query.
+    ///
+    /// # Errors
+    /// [`CoreError::EmptyScene`] if the robot has no obstacle at all (no static body, no other
+    /// object, no other robot) or no collision geometry — there is no pair to report
+    /// ([`link_distances`](Self::link_distances) returns `+inf` instead); plus the errors of
+    /// [`in_collision`](Self::in_collision).
+    pub fn distance(&self, robot: RobotId, q: &[f64]) -> Result<DistanceReport> {
+        self.validate(robot, q)?;
+        let rid = robot.0;
+        with_scratch(|s| {
+            let (k, nearest) = self.nearest_item(rid, q, s)?;
+            let d = nearest.distance;
+            let (k, contact, other) = if d <= 0.0 {
+                // Penetrating: report the deepest penetration over all items.
+                let mut deepest: Option<(usize, Collider, query::Contact)> = None;
+                for (k, item) in s.items.iter().enumerate() {
+                    if let Some((id, c)) = self.item_deepest_penetration(rid, item) {
+                        if deepest.as_ref().is_none_or(|(_, _, b)| c.dist < b.dist) {
+                            deepest = Some((k, id, c));
+                        }
+                    }
+                }
+                match deepest {
+                    Some((k, id, c)) => (k, Some(c), id),
+                    None => (k, None, nearest.id),
+                }
+            } else {
+                // Witness points of the nearest pair.
+                let item = &s.items[k];
+                let shape = self.item_shape(rid, item);
+                // Generous: parry's GJK may find a slightly larger distance than the search.
+                let prediction = 2.0 * d + 1e-6;
+                let c = query::contact(&item.pose, shape, &nearest.pose, nearest.shape, prediction).ok().flatten();
+                (k, c, nearest.id)
+            };
+            let item = &s.items[k];
+            let attached = match item.owner {
+                Owner::Attached { object, .. } => Some(ObjectId(object as usize)),
+                Owner::Link { .. } => None,
+            };
+            let (distance, p1, p2) = match contact {
+                // The searched distance is kept when separated, so that it equals the minimum
+                // of `link_distances` exactly.
+                Some(c) => (if d > 0.0 { d } else { c.dist }, c.point1, c.point2),
+                None => (d.max(0.0), item.pose.translation.vector.into(), item.pose.translation.vector.into()),
+            };
+            Ok(DistanceReport { distance, link: item.link, attached, other, point_on_robot: p1, point_on_other: p2 })
+        })
+    }
+
+    /// The separation of [`distance`](Self::distance) alone, without its witness points and
+    /// penetration depth: the same value when the robot is clear of its obstacles, `0` when
+    /// it touches or overlaps one. Cheaper (no contact query for the witness points), and all
+    /// that conservative advancement needs.
+    ///
+    /// # Errors
+    /// As [`distance`](Self::distance).
+    pub fn min_distance(&self, robot: RobotId, q: &[f64]) -> Result<f64> {
+        self.validate(robot, q)?;
+        with_scratch(|s| Ok(self.nearest_item(robot.0, q, s)?.1.distance.max(0.0)))
+    }
+
+    /// Places the robot and finds its nearest item and obstacle by branch-and-bound: items in
+    /// increasing order of their AABB lower bound, so that the bound tightens early and far
+    /// links are pruned without exact queries.
+    fn nearest_item<'w>(&'w self, rid: usize, q: &[f64], s: &mut Scratch) -> Result<(usize, Nearest<'w>)> {
+        if !self.has_obstacles(rid) {
+            return Err(CoreError::EmptyScene { reason: "the robot has no obstacle to measure a distance to".into() });
+        }
+        self.place(rid, q, s);
+        s.order.clear();
+        for (k, item) in s.items.iter().enumerate() {
+            s.order.push((self.item_lower_bound(rid, item), k as u32));
+        }
+        s.order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+        let mut best: Option<(usize, Nearest<'_>)> = None;
+        let mut bound = f64::INFINITY;
+        for &(lb, k) in &s.order {
+            if lb >= bound {
+                break;
+            }
+            if let Some(n) = self.item_min_distance(rid, &s.items[k as usize], bound) {
+                bound = n.distance;
+                best = Some((k as usize, n));
+            }
+        }
+        best.ok_or_else(|| CoreError::EmptyScene { reason: "no obstacle within reach of the robot's geometry".into() })
+    }
+
+    /// Minimum distance of each link (with the objects it carries) to the robot's obstacles,
+    /// indexed by [`LinkId`]; self-distance is not included. Links without collision geometry,
+    /// and every link when the robot has no obstacles, get `+inf`. Overlapping links get `0`
+    /// (exact distance, not a penetration depth: use [`distance`](Self::distance) for depth).
+    /// Each value is a safe bound for conservative-advancement collision checking.
+    ///
+    /// # Errors
+    /// As [`in_collision`](Self::in_collision).
+    pub fn link_distances(&self, robot: RobotId, q: &[f64]) -> Result<Vec<f64>> {
+        let mut out = Vec::new();
+        self.link_distances_into(robot, q, &mut out)?;
+        Ok(out)
+    }
+
+    /// [`link_distances`](Self::link_distances) into a reused buffer (cleared and resized to
+    /// the link count).
+    ///
+    /// # Errors
+    /// As [`in_collision`](Self::in_collision).
+    pub fn link_distances_into(&self, robot: RobotId, q: &[f64], out: &mut Vec<f64>) -> Result<()> {
+        self.link_distances_where(robot, q, out, |_| true)
+    }
+
+    /// [`link_distances_into`](Self::link_distances_into) restricted to the links with
+    /// `selected[link] == true`: the others (and links beyond `selected`'s length) get `+inf`
+    /// without any query. For callers that already hold cheaper lower bounds for most links
+    /// and need exact distances for a few (e.g. a grasp evaluator refining the links near an
+    /// object's convex hull).
+    ///
+    /// # Errors
+    /// As [`in_collision`](Self::in_collision).
+    pub fn selected_link_distances_into(
+        &self,
+        robot: RobotId,
+        q: &[f64],
+        selected: &[bool],
+        out: &mut Vec<f64>,
+    ) -> Result<()> {
+        self.link_distances_where(robot, q, out, |l| selected.get(l).copied().unwrap_or(false))
+    }
+
+    /// Exact distance of every link `l` with `wanted(l)` to everything it can hit (`+inf` for
+    /// the others, which are not queried).
+    fn link_distances_where(
+        &self,
+        robot: RobotId,
+        q: &[f64],
+        out: &mut Vec<f64>,
+        wanted: impl Fn(usize) -> bool,
+    ) -> Result<()> {
+        self.validate(robot, q)?;
+        let rid = robot.0;
+        out.clear();
+        out.resize(self.robots[rid].n_links(), f64::INFINITY);
+        with_scratch(|s| {
+            self.place_links(rid, q, &wanted, s);
+            for item in &s.items {
+                let l = item.link.0;
+                if let Some(n) = self.item_min_distance(rid, item, out[l]) {
+                    out[l] = out[l].min(n.distance);
+                }
+            }
+        });
+        Ok(())
+    }
+}

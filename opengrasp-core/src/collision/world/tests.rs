@@ -1,0 +1,167 @@
+//! Tests of the world's placement and distance queries.
+
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use super::*;
+use crate::model::{samples, Geometry, JointKind, JointSpec, Link, RobotBuilder, Shape};
+use crate::scene::{SceneObject, StaticBody};
+
+#[test]
+fn selected_link_distances_match_the_full_query() {
+    let mut scene = Scene::new("selected");
+    let arm = scene.add_robot("arm", Arc::new(samples::seven_dof_arm().unwrap()), Isometry3::identity()).unwrap();
+    let wall = Shape::at_origin(Geometry::cuboid(0.05, 1.0, 1.0));
+    scene.add_body(StaticBody::new("wall", Isometry3::translation(0.6, 0.0, 0.5), vec![wall])).unwrap();
+    let world = CollisionWorld::new(&scene).unwrap();
+    let q = [0.3, 0.8, -0.2, 0.5, 0.1, 0.4, 0.0];
+    let full = world.link_distances(arm, &q).unwrap();
+    let selected: Vec<bool> = (0..full.len()).map(|l| l % 2 == 1).collect();
+    let mut out = Vec::new();
+    world.selected_link_distances_into(arm, &q, &selected, &mut out).unwrap();
+    assert_eq!(out.len(), full.len());
+    for (l, (&a, &b)) in full.iter().zip(&out).enumerate() {
+        if selected[l] {
+            assert_eq!(a, b, "link {l}");
+        } else {
+            assert_eq!(b, f64::INFINITY, "link {l}");
+        }
+    }
+    assert!(full.iter().any(|d| d.is_finite()));
+    // A short mask leaves the remaining links unqueried; bad configurations are errors.
+    world.selected_link_distances_into(arm, &q, &[true], &mut out).unwrap();
+    assert_eq!(out[0], full[0]);
+    assert!(out[1..].iter().all(|d| *d == f64::INFINITY));
+    assert!(world.selected_link_distances_into(arm, &q[..3], &selected, &mut out).is_err());
+}
+
+/// A branching robot: a torso turning about z, a frame link without geometry, two arms (the
+/// second's elbow mimics the first's), a fixed tool and an empty fingertip link.
+fn two_arm_robot() -> Robot {
+    let capsule =
+        |name: &str| Link::new(name).with_shape(Shape::at_origin(Geometry::Capsule { radius: 0.04, length: 0.2 }));
+    let revolute = |name: &str, parent: &str, child: &str, origin: Isometry3<f64>, axis: Vector3<f64>| {
+        JointSpec::new(name, JointKind::Revolute, parent, child).origin(origin).axis(axis).limits(-2.5, 2.5, 1.0, 10.0)
+    };
+    let up = |z: f64| Isometry3::translation(0.0, 0.0, z);
+    let side = |y: f64| {
+        Isometry3::from_parts(Translation3::new(0.0, y, 0.3), UnitQuaternion::from_euler_angles(0.3 * y, 0.2, -0.1))
+    };
+    RobotBuilder::new("two_arms")
+        .link(Link::new("torso").with_shape(Shape::at_origin(Geometry::cuboid(0.3, 0.4, 0.5))))
+        .link(Link::new("chest"))
+        .link(capsule("l1"))
+        .link(capsule("l2"))
+        .link(capsule("r1"))
+        .link(Link::new("r2").with_shape(Shape::new(up(0.1), Geometry::Cylinder { radius: 0.05, length: 0.2 })))
+        .link(Link::new("tool").with_shape(Shape::new(up(0.05), Geometry::cuboid(0.06, 0.1, 0.04))))
+        .link(Link::new("tip"))
+        .joint(revolute("waist", "torso", "chest", up(0.3), Vector3::z()))
+        .joint(revolute("l_shoulder", "chest", "l1", side(0.25), Vector3::y()))
+        .joint(revolute("l_elbow", "l1", "l2", up(0.2), Vector3::x()))
+        .joint(revolute("r_shoulder", "chest", "r1", side(-0.25), Vector3::y()))
+        .joint(revolute("r_elbow", "r1", "r2", up(0.2), Vector3::x()).mimic("l_elbow", -0.5, 0.1))
+        .joint(JointSpec::new("tool_joint", JointKind::Fixed, "l2", "tool").origin(up(0.2)))
+        .joint(revolute("tip_joint", "tool", "tip", up(0.1), Vector3::z()))
+        .build()
+        .unwrap()
+}
+
+/// The two-arm robot on a rotated base near a wall, holding a box in its right hand.
+fn two_arm_world() -> (CollisionWorld, RobotId) {
+    let mut scene = Scene::new("two arms");
+    let base =
+        Isometry3::from_parts(Translation3::new(0.2, -0.1, 0.05), UnitQuaternion::from_euler_angles(0.0, 0.0, 0.7));
+    let robot = scene.add_robot("robot", Arc::new(two_arm_robot()), base).unwrap();
+    let wall = Shape::at_origin(Geometry::cuboid(0.05, 2.0, 2.0));
+    scene.add_body(StaticBody::new("wall", Isometry3::translation(0.9, 0.0, 0.5), vec![wall])).unwrap();
+    let held = SceneObject::new(
+        "held",
+        Isometry3::translation(0.3, -0.3, 0.9),
+        vec![Shape::at_origin(Geometry::cuboid(0.05, 0.05, 0.1))],
+        0.1,
+    );
+    let held = scene.add_object(held).unwrap();
+    scene.attach(held, robot, "r2").unwrap();
+    (CollisionWorld::new(&scene).unwrap(), robot)
+}
+
+fn random_q(robot: &Robot, rng: &mut ChaCha8Rng) -> Vec<f64> {
+    (0..robot.dof())
+        .map(|d| {
+            let (lo, hi) = robot.dof_limits(d);
+            rng.random_range(lo..=hi)
+        })
+        .collect()
+}
+
+fn same_bits(a: &Isometry3<f64>, b: &Isometry3<f64>) -> bool {
+    let bits = |p: &Isometry3<f64>| {
+        let (t, r) = (p.translation.vector, p.rotation.coords);
+        [t.x, t.y, t.z, r.x, r.y, r.z, r.w].map(f64::to_bits)
+    };
+    bits(a) == bits(b)
+}
+
+/// Placing a subset of the links gives each placed part the very pose and bounding box of
+/// full forward kinematics (the placement every query used before `place_links`), in the
+/// same order, and places nothing else.
+#[test]
+fn placed_links_match_full_forward_kinematics() {
+    let (world, robot) = two_arm_world();
+    let r = &world.robots[robot.0];
+    let n = r.n_links();
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let mut full_poses = Vec::new();
+    for _ in 0..20 {
+        let q = random_q(&r.robot, &mut rng);
+        // The reference: every link by full forward kinematics, then every part.
+        crate::kinematics::forward_kinematics_into(&r.robot, &q, &mut full_poses);
+        let mut reference: Vec<(LinkId, Isometry3<f64>)> =
+            r.parts.iter().zip(&r.part_link).map(|(p, l)| (*l, r.base_pose * full_poses[l.0] * p.local)).collect();
+        let (object, att) = world.objects.iter().find_map(|o| o.attached.as_ref().map(|a| (o, a))).unwrap();
+        let carried = r.base_pose * full_poses[att.link.0] * att.offset;
+        reference.extend(object.parts.iter().map(|p| (att.link, carried * p.local)));
+        let masks = (0..n)
+            .map(|l| (0..n).map(|k| k == l).collect::<Vec<bool>>())
+            .chain(std::iter::once((0..n).map(|_| rng.random_bool(0.5)).collect()))
+            .chain(std::iter::once(vec![true; n]));
+        for mask in masks {
+            let mut s = Scratch::default();
+            world.place_links(robot.0, &q, |l| mask[l], &mut s);
+            let expected: Vec<&(LinkId, Isometry3<f64>)> = reference.iter().filter(|(l, _)| mask[l.0]).collect();
+            assert_eq!(s.items.len(), expected.len(), "{mask:?}");
+            for (item, (link, pose)) in s.items.iter().zip(expected) {
+                assert_eq!(item.link, *link);
+                assert!(same_bits(&item.pose, pose), "{mask:?}: {:?} vs {pose:?}", item.pose);
+                let aabb = world.item_shape(robot.0, item).compute_aabb(pose);
+                assert_eq!((item.aabb.mins, item.aabb.maxs), (aabb.mins, aabb.maxs));
+            }
+        }
+    }
+}
+
+/// Each link's selected distance is bit-identical to its entry of the full query, on a
+/// branching robot carrying an object, one link at a time and all together.
+#[test]
+fn single_link_distances_equal_the_full_query_bit_for_bit() {
+    let (world, robot) = two_arm_world();
+    let n = world.robots[robot.0].n_links();
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let mut out = Vec::new();
+    let mut finite = 0;
+    for _ in 0..20 {
+        let q = random_q(&world.robots[robot.0].robot, &mut rng);
+        let full = world.link_distances(robot, &q).unwrap();
+        for l in 0..n {
+            let mask: Vec<bool> = (0..n).map(|k| k == l).collect();
+            world.selected_link_distances_into(robot, &q, &mask, &mut out).unwrap();
+            assert_eq!(out[l].to_bits(), full[l].to_bits(), "link {l} at {q:?}");
+            assert!(out.iter().enumerate().all(|(k, d)| k == l || *d == f64::INFINITY));
+            finite += usize::from(full[l].is_finite());
+        }
+    }
+    // The six links with geometry (the right forearm with its box) are all measured.
+    assert_eq!(finite, 20 * 6);
+}
