@@ -22,7 +22,9 @@
 //!   full dimension makes that the interior.
 //! * **Epsilon** (Ferrari-Canny, L1 variant): the radius of the largest origin-centred ball
 //!   inside `W`, i.e. the smallest facet offset of the 6-D convex hull ([`hull`]); 0 if the
-//!   origin is not strictly inside. Equivalently `min over unit u of max_i wᵢ · u`.
+//!   origin is not strictly inside. Equivalently `min over unit u of max_i wᵢ · u`. Found
+//!   without the full hull by an expanding-polytope search that refines only the facets
+//!   nearest the origin ([`ConvexHull::depth_flat`]).
 //! * **Volume**: the 6-D volume of `W`.
 //!
 //! Wrench sets spanning fewer than 6 dimensions (no contacts, one contact, coplanar
@@ -266,9 +268,12 @@ impl GraspQuality {
         }
         if options.compute_hull && (report.force_closure || !hull_if_closure) {
             let coords: Vec<f64> = wrenches.iter().flat_map(|w| w.iter().copied()).collect();
-            match ConvexHull::summary_flat(6, &coords, &options.hull, &[0.0; 6]) {
-                Ok(hull) => {
-                    report.epsilon = if hull.depth > options.tolerance { hull.depth } else { 0.0 };
+            let origin = [0.0; 6];
+            let metrics = ConvexHull::depth_flat(6, &coords, &options.hull, &origin)
+                .and_then(|depth| Ok((depth, ConvexHull::summary_flat(6, &coords, &options.hull, &origin)?)));
+            match metrics {
+                Ok((depth, hull)) => {
+                    report.epsilon = if depth > options.tolerance { depth } else { 0.0 };
                     report.volume = hull.volume;
                     report.hull_facets = hull.facets;
                 }
