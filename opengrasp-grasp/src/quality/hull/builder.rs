@@ -124,9 +124,10 @@ pub(super) struct Builder<'a, D: Dim> {
     center: Vec<f64>,
     s: Storage,
     eps: f64,
-    /// Every plane from the QR of its vertices, none from the `O(d)` cone update (whose
-    /// normals can drift from the vertices' plane by far more than rounding): the depth search
-    /// needs exact planes, the hull keeps the update for its speed and its reference results.
+    /// Accept a plane from the `O(d)` cone update only if every vertex lies on it to
+    /// `1e-14 × scale` (else the QR of the vertices): the hull spot-checks two vertices to
+    /// `1e-11 × scale`, which lets normals drift far beyond rounding; the depth search needs
+    /// accurate planes (the hull keeps its check for its reference results).
     exact_planes: bool,
     scale: f64,
     qr: Vec<f64>,
@@ -445,7 +446,7 @@ impl<'a, D: Dim> Builder<'a, D> {
         let f = self.s.offsets.len();
         self.s.normals.resize((f + 1) * d, 0.0);
         let mut offset = None;
-        if let Some((vis, other, apex, a, c)) = cone.filter(|_| !self.exact_planes) {
+        if let Some((vis, other, apex, a, c)) = cone {
             let (head, tail) = self.s.normals.split_at_mut(f * d);
             let normal = &mut tail[..d];
             let (n_other, n_vis) = (&head[other * d..][..d], &head[vis * d..][..d]);
@@ -458,10 +459,13 @@ impl<'a, D: Dim> Builder<'a, D> {
                 normal.iter_mut().for_each(|x| *x /= len);
                 let b = dot(normal, &self.pts[apex * d..][..d]);
                 // Spot-check two vertices (one is not the apex) against drift of the
-                // parents' normals.
-                let on_plane = [vs[0], vs[d - 1]]
-                    .iter()
-                    .all(|&v| (dot(normal, &self.pts[v * d..][..d]) - b).abs() <= 1e-11 * self.scale);
+                // parents' normals; with exact planes, every vertex to 1e-14 · scale.
+                let on = |v: &usize, tol: f64| (dot(normal, &self.pts[v * d..][..d]) - b).abs() <= tol * self.scale;
+                let on_plane = if self.exact_planes {
+                    vs[..d].iter().all(|v| on(v, 1e-14))
+                } else {
+                    [vs[0], vs[d - 1]].iter().all(|v| on(v, 1e-11))
+                };
                 let below = dot(normal, &self.center) - b < -1e-12 * self.scale;
                 if on_plane && below {
                     offset = Some(b);
@@ -471,7 +475,7 @@ impl<'a, D: Dim> Builder<'a, D> {
         let offset = match offset {
             Some(b) => b,
             None => plane(
-                d,
+                self.dim,
                 self.pts,
                 vs,
                 &self.center,

@@ -184,7 +184,7 @@ impl ConvexHull {
     /// the hull: an expanding-polytope search from the initial simplex that refines only the
     /// facets nearest the point (see `builder::epsilon`). On the same joggled points as
     /// [`ConvexHull::summary_flat`], so for a point inside the hull it agrees with that depth
-    /// to rounding (about `1e-15 × scale`); for a point outside it is non-positive (not
+    /// to about `1e-14 × scale`, unless the hull needed a larger joggle; for a point outside it is non-positive (not
     /// necessarily the hull's depth, which measures the largest facet violation). The grasp
     /// metrics use it for the Ferrari-Canny epsilon (`point` = the origin). When the search's
     /// polytope fails its verification (near-coplanar facets within the joggle, a few percent

@@ -11,10 +11,15 @@
 //! their horizon), and the new facets join the priority queue. Facets far from the point are
 //! never refined, and the points inside `Q` never need outside sets.
 //!
-//! The final facet is a facet of the joggled points' hull, the one nearest the point. Its
-//! plane, as every plane of `Q`, comes from a QR of its vertices (not from the hull's `O(d)`
-//! update of its parents' normals, which can drift), so the depth is that of the exact facet
-//! to rounding, which the hull's is too unless its plane drifted.
+//! The final facet is a facet of the joggled points' hull, the one nearest the point. Every
+//! plane of `Q` passes through all its vertices to `1e-14 × scale` (the hull's `O(d)` update
+//! of the parents' normals is accepted only then, else the QR of the vertices; the hull itself
+//! spot-checks two vertices to `1e-11 × scale`), so the depth is that of the exact facet to
+//! about `1e-14 × scale`.
+//!
+//! Cost on the default suite's Barrett/salt-can force-closure grasps (callgrind): about 18
+//! insertions and 1,560 facets created per grasp, 2.5 million instructions, against about
+//! 10 million for the full hull.
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
