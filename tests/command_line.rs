@@ -345,7 +345,7 @@ fn run_grasp_with_physics_checks_end_to_end() {
     let run = |physics: &str| {
         let mut argv = vec!["opengrasp", "run", "grasp", "--size", "tiny", "--physics", physics, "--quiet"];
         if physics != "0" {
-            argv.push("--grasps");
+            argv.extend(["--grasps", "--hull-stats"]);
         }
         argv.extend(["--out", out.to_str().unwrap()]);
         let cli = Cli::try_parse_from(argv).unwrap();
@@ -377,7 +377,13 @@ fn run_grasp_with_physics_checks_end_to_end() {
         }
         assert_eq!(k.iter().filter(|r| r.physics_held.is_some()).count(), c.physics_tested);
         assert_eq!(k.iter().filter(|r| r.physics_held == Some(true)).count(), c.physics_held);
-        assert!(k.iter().all(|r| r.index < c.generated && r.epsilon >= 0.0 && r.volume >= 0.0));
+        assert!(k.iter().all(|r| r.index < c.generated && r.epsilon >= 0.0));
+        // --hull-stats: every record carries the hull's volume and facet count, nonzero
+        // exactly for the force-closure grasps.
+        for r in k {
+            let (volume, facets) = (r.volume.unwrap(), r.hull_facets.unwrap());
+            assert_eq!((volume > 0.0, facets > 0), (r.force_closure, r.force_closure), "{r:?}");
+        }
     }
     assert_eq!(ResultsFile::load(&out).unwrap(), checked);
     // --grasps also stores the static tactile frames (the Barrett hand's optional pads), and

@@ -71,7 +71,6 @@ fn throughput(c: &mut Criterion) {
     group.finish();
 }
 
-/// The 6-D hulls of the mix's force-closure grasps: the optimised builder and the previous one.
 /// The primitive wrenches of every grasp of the mix, with the grasp's force-closure verdict.
 fn mix_wrench_sets() -> Vec<(bool, Vec<Wrench>)> {
     let mut sets = Vec::new();
@@ -88,6 +87,8 @@ fn mix_wrench_sets() -> Vec<(bool, Vec<Wrench>)> {
     sets
 }
 
+/// The 6-D hulls of the mix's force-closure grasps (the optimised builder and the previous
+/// one), and their Ferrari-Canny epsilon by the depth search without the hull.
 fn hull6d(c: &mut Criterion) {
     let sets: Vec<Vec<f64>> = mix_wrench_sets()
         .into_iter()
@@ -102,6 +103,13 @@ fn hull6d(c: &mut Criterion) {
         b.iter(|| {
             for s in &sets {
                 black_box(ConvexHull::from_flat(6, s, &options).expect("hull"));
+            }
+        })
+    });
+    group.bench_function(format!("suite_fc_{}/epsilon_search", sets.len()), |b| {
+        b.iter(|| {
+            for s in &sets {
+                black_box(ConvexHull::depth_flat(6, s, &options, &[0.0; 6]).expect("depth"));
             }
         })
     });
@@ -160,7 +168,7 @@ fn evaluation(c: &mut Criterion) {
                 .plan(&GraspRequest { hand: &info, object: &object.mesh, seed: 0 })
                 .expect("candidates");
             let mut k = 0;
-            let label = format!("evaluate/{name}/salt_can/{}", if hull { "all metrics" } else { "no hull" });
+            let label = format!("evaluate/{name}/salt_can/{}", if hull { "epsilon" } else { "no epsilon" });
             c.bench_function(&label, |b| {
                 b.iter(|| {
                     k = (k + 1) % candidates.len();

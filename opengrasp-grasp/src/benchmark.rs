@@ -158,8 +158,15 @@ pub struct CandidateRecord {
     pub force_closure: bool,
     /// Ferrari-Canny epsilon (0 without force closure).
     pub epsilon: f64,
-    /// Grasp wrench space volume (0 if unavailable).
-    pub volume: f64,
+    /// Volume of the grasp wrench space's 6-D hull, with the hull statistics on
+    /// ([`crate::quality::QualityOptions::hull_statistics`]; 0 without force closure); absent
+    /// otherwise (older files always carry it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub volume: Option<f64>,
+    /// Facet count of that hull, with the hull statistics on (0 without force closure);
+    /// absent otherwise and from older files.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hull_facets: Option<usize>,
     /// Outcome of the physics hold check, if this grasp was simulated.
     pub physics_held: Option<bool>,
     /// Static tactile frame of the closed grasp (nonzero raw cells per pad), if recorded
@@ -398,6 +405,8 @@ pub fn run_grasp_benchmark_with(
                     }
                 }
                 let candidate_records = if config.record_candidates {
+                    let quality = &config.evaluator.quality;
+                    let stats = quality.compute_hull && quality.hull_statistics;
                     let frames = match &tactile {
                         Some((array, grip)) => tactile_frames(config, hand, object, &evaluations, array, *grip)?,
                         None => vec![None; evaluations.len()],
@@ -419,7 +428,8 @@ pub fn run_grasp_benchmark_with(
                             contacts: e.contacts.len(),
                             force_closure: e.force_closure(),
                             epsilon: e.epsilon(),
-                            volume: e.quality.map_or(0.0, |q| q.volume),
+                            volume: stats.then(|| e.quality.and_then(|q| q.volume).unwrap_or(0.0)),
+                            hull_facets: stats.then(|| e.quality.and_then(|q| q.hull_facets).unwrap_or(0)),
                             physics_held: held,
                             tactile,
                             tactile_series,

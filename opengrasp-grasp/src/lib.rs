@@ -48,7 +48,11 @@
 //!
 //! let report = GraspQuality::evaluate(&contacts, &frame, &QualityOptions::default())?;
 //! assert!(report.force_closure);
-//! assert!(report.epsilon > 0.05 && report.volume > 0.0);
+//! assert!(report.epsilon > 0.05);
+//! // The hull's volume and facet count are opt-in statistics (the full 6-D hull).
+//! let stats = QualityOptions { hull_statistics: true, ..QualityOptions::default() };
+//! let report = GraspQuality::evaluate(&contacts, &frame, &stats)?;
+//! assert!(report.volume.is_some_and(|v| v > 0.0));
 //!
 //! // The friction needed for force closure (GraspNet-1Billion's score; lower is better).
 //! let mu = GraspQuality::friction_score(&contacts, &frame, &QualityOptions::default())?;

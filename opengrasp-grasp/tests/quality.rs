@@ -5,7 +5,7 @@ use nalgebra::{Point3, Unit, Vector3, Vector6};
 use opengrasp_grasp::quality::solver::{min_norm_distance, min_norm_point};
 use opengrasp_grasp::{
     Contact, ContactModel, ContactType, ConvexHull, GraspError, GraspQuality, GraspWrenchSpace, HullOptions,
-    ObjectFrame, QualityOptions, RobustOptions,
+    ObjectFrame, QualityOptions, QualityReport, RobustOptions,
 };
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
@@ -22,8 +22,24 @@ fn unit_frame() -> ObjectFrame {
     ObjectFrame::new(Point3::origin(), 1.0).unwrap()
 }
 
+/// The quality options of the tests: the given friction and contact type, 8 cone edges and
+/// the hull statistics (volume, facet count) on.
 fn options(friction: f64, contact_type: ContactType) -> QualityOptions {
-    QualityOptions { contact: ContactModel { friction, cone_edges: 8, contact_type }, ..QualityOptions::default() }
+    QualityOptions {
+        contact: ContactModel { friction, cone_edges: 8, contact_type },
+        hull_statistics: true,
+        ..QualityOptions::default()
+    }
+}
+
+/// The default options with the hull statistics on.
+fn with_statistics() -> QualityOptions {
+    QualityOptions { hull_statistics: true, ..QualityOptions::default() }
+}
+
+/// The volume of a report computed with the hull statistics.
+fn volume(report: &QualityReport) -> f64 {
+    report.volume.expect("hull statistics requested")
 }
 
 fn tetrahedral() -> Vec<Contact> {
@@ -83,14 +99,14 @@ fn antipodal_point_contacts_are_not_force_closure_but_soft_fingers_are() {
     assert_eq!(point.wrench_dimension, 5);
     assert!(point.degenerate);
     assert_eq!(point.epsilon, 0.0);
-    assert_eq!(point.volume, 0.0);
+    assert_eq!(point.volume, Some(0.0));
     assert_eq!(point.num_wrenches, 16);
 
     let soft = GraspQuality::evaluate(&contacts, &unit_frame(), &options(0.5, SOFT)).unwrap();
     assert!(soft.force_closure);
     assert_eq!(soft.wrench_dimension, 6);
     assert!(!soft.degenerate);
-    assert!(soft.epsilon > 0.0 && soft.volume > 0.0);
+    assert!(soft.epsilon > 0.0 && volume(&soft) > 0.0);
     assert_eq!(soft.num_wrenches, 20);
     // The torsional primitives (n, ±γn/ρ) bound the resistible torque about the axis: the
     // pure torsion wrench direction (0,0,0,1,0,0) has support γ = 0.05, so epsilon ≤ 0.05.
@@ -123,7 +139,7 @@ fn tetrahedral_grasp_is_force_closure_and_epsilon_matches_sampled_support() {
     let frame = ObjectFrame::new(Point3::origin(), 0.05).unwrap();
     let small = GraspQuality::evaluate(&scaled, &frame, &opts).unwrap();
     assert!((small.epsilon - report.epsilon).abs() < 1e-7);
-    assert!((small.volume - report.volume).abs() < 1e-6 * report.volume);
+    assert!((volume(&small) - volume(&report)).abs() < 1e-6 * volume(&report));
     // ... and to a translation of object and contacts together.
     let shift = Vector3::new(0.3, -2.0, 1.5);
     let moved: Vec<Contact> = contacts.iter().map(|c| Contact::from_unit(c.point + shift, c.normal)).collect();
@@ -144,7 +160,7 @@ fn three_equatorial_contacts_are_force_closure_and_more_friction_helps() {
     let high = GraspQuality::evaluate(&contacts, &unit_frame(), &options(0.8, ContactType::PointWithFriction)).unwrap();
     assert!(low.force_closure && high.force_closure);
     assert!(high.epsilon > low.epsilon && low.epsilon > 0.0);
-    assert!(high.volume > low.volume);
+    assert!(volume(&high) > volume(&low));
     // Frictionless contacts: 3 wrenches cannot span 6-D.
     let none = GraspQuality::evaluate(&contacts, &unit_frame(), &options(0.0, ContactType::PointWithFriction)).unwrap();
     assert!(!none.force_closure && none.degenerate && none.num_wrenches == 3);
@@ -198,11 +214,11 @@ fn friction_sweep_is_monotone_on_random_grasps() {
 
 #[test]
 fn degenerate_grasps_do_not_panic() {
-    let opts = QualityOptions::default();
+    let opts = with_statistics();
     let empty = GraspQuality::evaluate(&[], &unit_frame(), &opts).unwrap();
     assert!(!empty.force_closure && !empty.origin_in_hull && empty.degenerate);
     assert_eq!(empty.min_norm_distance, f64::INFINITY);
-    assert_eq!((empty.epsilon, empty.volume, empty.num_wrenches), (0.0, 0.0, 0));
+    assert_eq!((empty.epsilon, empty.volume, empty.num_wrenches), (0.0, Some(0.0), 0));
 
     let one = GraspQuality::evaluate(&[sphere_contact(1.0, [0.0, 0.0, 1.0])], &unit_frame(), &opts).unwrap();
     assert!(!one.force_closure && !one.origin_in_hull && one.degenerate);
@@ -219,14 +235,16 @@ fn degenerate_grasps_do_not_panic() {
         .collect();
     let flat = GraspQuality::evaluate(&planar, &unit_frame(), &options(0.0, ContactType::PointWithFriction)).unwrap();
     assert!(!flat.force_closure && flat.degenerate && flat.wrench_dimension <= 3);
-    assert_eq!((flat.epsilon, flat.volume), (0.0, 0.0));
+    assert_eq!((flat.epsilon, flat.volume), (0.0, Some(0.0)));
 
     // Duplicated contacts give duplicated wrenches: same result as the single copy.
     let mut doubled = tetrahedral();
     doubled.extend(tetrahedral());
     let a = GraspQuality::evaluate(&tetrahedral(), &unit_frame(), &opts).unwrap();
     let b = GraspQuality::evaluate(&doubled, &unit_frame(), &opts).unwrap();
-    assert!(b.force_closure && (a.epsilon - b.epsilon).abs() < 1e-7 && (a.volume - b.volume).abs() < 1e-6 * a.volume);
+    assert!(
+        b.force_closure && (a.epsilon - b.epsilon).abs() < 1e-7 && (volume(&a) - volume(&b)).abs() < 1e-6 * volume(&a)
+    );
 }
 
 #[test]
@@ -314,11 +332,11 @@ fn cross_polytope_wrench_space_has_analytic_epsilon_and_volume() {
         }
     }
     let ws = GraspWrenchSpace::from_wrenches(wrenches).unwrap();
-    let report = GraspQuality::evaluate_wrench_space(&ws, &QualityOptions::default()).unwrap();
+    let report = GraspQuality::evaluate_wrench_space(&ws, &with_statistics()).unwrap();
     assert!(report.force_closure && report.origin_in_hull && !report.degenerate);
     assert!((report.epsilon - 1.0 / 6f64.sqrt()).abs() < 1e-7, "{}", report.epsilon);
-    assert!((report.volume - 64.0 / 720.0).abs() < 1e-7);
-    assert_eq!(report.hull_facets, 64);
+    assert!((volume(&report) - 64.0 / 720.0).abs() < 1e-7);
+    assert_eq!(report.hull_facets, Some(64));
     // Every LP weight can be 1/12 (opposite pairs cancel).
     assert!((report.positive_combination_margin - 1.0 / 12.0).abs() < 1e-6);
     // Shifted by 1 along x the origin becomes a vertex of the hull: in the closed hull but
@@ -326,8 +344,7 @@ fn cross_polytope_wrench_space_has_analytic_epsilon_and_volume() {
     let shift = |dx: f64| {
         let w: Vec<Vector6<f64>> =
             ws.wrenches().iter().map(|w| w + Vector6::new(dx, 0.0, 0.0, 0.0, 0.0, 0.0)).collect();
-        GraspQuality::evaluate_wrench_space(&GraspWrenchSpace::from_wrenches(w).unwrap(), &QualityOptions::default())
-            .unwrap()
+        GraspQuality::evaluate_wrench_space(&GraspWrenchSpace::from_wrenches(w).unwrap(), &with_statistics()).unwrap()
     };
     let touching = shift(1.0);
     assert!(touching.origin_in_hull && !touching.force_closure && !touching.degenerate);
@@ -336,7 +353,33 @@ fn cross_polytope_wrench_space_has_analytic_epsilon_and_volume() {
     assert!(!report.force_closure && !report.origin_in_hull);
     assert!((report.min_norm_distance - 0.5).abs() < 1e-6);
     assert_eq!(report.epsilon, 0.0);
-    assert!((report.volume - 64.0 / 720.0).abs() < 1e-7);
+    assert!((volume(&report) - 64.0 / 720.0).abs() < 1e-7);
+}
+
+#[test]
+fn hull_statistics_are_opt_in_and_leave_epsilon_unchanged() {
+    let contacts = tetrahedral();
+    let plain = GraspQuality::evaluate(&contacts, &unit_frame(), &QualityOptions::default()).unwrap();
+    assert_eq!((plain.volume, plain.hull_facets), (None, None));
+    let full = GraspQuality::evaluate(&contacts, &unit_frame(), &with_statistics()).unwrap();
+    assert!(volume(&full) > 0.0 && full.hull_facets.is_some_and(|f| f > 100), "{full:?}");
+    // Epsilon comes from the depth search either way: the same bits.
+    assert!(plain.epsilon > 0.05);
+    assert_eq!(plain.epsilon.to_bits(), full.epsilon.to_bits());
+    // Without closure the evaluator's variant skips the hull: statistics 0, not absent.
+    let two = [sphere_contact(1.0, [1.0, 0.0, 0.0]), sphere_contact(1.0, [-1.0, 0.0, 0.0])];
+    let skipped = GraspQuality::evaluate_hull_if_closure(&two, &unit_frame(), &with_statistics()).unwrap();
+    assert_eq!((skipped.epsilon, skipped.volume, skipped.hull_facets), (0.0, Some(0.0), Some(0)));
+    // Older serialized options (no `hull_statistics`) load with the statistics off, and a
+    // report without them serializes without the two fields.
+    let mut json = serde_json::to_value(QualityOptions::default()).unwrap();
+    json.as_object_mut().unwrap().remove("hull_statistics");
+    let old: QualityOptions = serde_json::from_value(json).unwrap();
+    assert!(!old.hull_statistics);
+    let text = serde_json::to_string(&plain).unwrap();
+    assert!(!text.contains("volume") && !text.contains("hull_facets"), "{text}");
+    let back: QualityReport = serde_json::from_str(&text).unwrap();
+    assert_eq!(back, plain);
 }
 
 #[test]
@@ -512,7 +555,7 @@ proptest! {
         prop_assert!(report.min_norm_distance >= 0.0);
         prop_assert!(report.force_closure <= report.origin_in_hull);
         if report.degenerate {
-            prop_assert!(!report.force_closure && report.epsilon == 0.0 && report.volume == 0.0);
+            prop_assert!(!report.force_closure && report.epsilon == 0.0 && report.volume == Some(0.0));
         }
     }
 }

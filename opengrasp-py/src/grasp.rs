@@ -141,10 +141,12 @@ fn contacts(points: &Bound<'_, PyAny>, normals: &Bound<'_, PyAny>) -> Result<Vec
 /// object frame, the object's `center_of_mass` and `max_radius` (torque scale; default: the
 /// farthest contact from the centre of mass).
 ///
-/// Returns a dict: `force_closure`, `epsilon` (Ferrari-Canny L1), `volume`,
-/// `origin_in_hull`, `min_norm_distance`, `wrench_dimension`, `degenerate`, ...
+/// Returns a dict: `force_closure`, `epsilon` (Ferrari-Canny L1), `origin_in_hull`,
+/// `min_norm_distance`, `wrench_dimension`, `degenerate`, ...; with `hull_statistics=True`
+/// also the wrench-space hull's `volume` and `hull_facets` (the full 6-D hull, several times
+/// slower; epsilon does not need it).
 #[pyfunction]
-#[pyo3(signature = (points, normals, center_of_mass = None, max_radius = None, friction = 0.5, cone_edges = 8, torsional_friction = None))]
+#[pyo3(signature = (points, normals, center_of_mass = None, max_radius = None, friction = 0.5, cone_edges = 8, torsional_friction = None, hull_statistics = false))]
 #[allow(clippy::too_many_arguments)]
 pub fn grasp_quality<'py>(
     py: Python<'py>,
@@ -155,6 +157,7 @@ pub fn grasp_quality<'py>(
     friction: f64,
     cone_edges: usize,
     torsional_friction: Option<f64>,
+    hull_statistics: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let contacts = contacts(points, normals)?;
     let com = match center_of_mass {
@@ -170,8 +173,11 @@ pub fn grasp_quality<'py>(
         Some(t) => ContactType::SoftFinger { torsional_friction: t },
         None => ContactType::PointWithFriction,
     };
-    let options =
-        QualityOptions { contact: ContactModel { friction, cone_edges, contact_type }, ..QualityOptions::default() };
+    let options = QualityOptions {
+        contact: ContactModel { friction, cone_edges, contact_type },
+        hull_statistics,
+        ..QualityOptions::default()
+    };
     let report = py.detach(|| guard(|| Ok(GraspQuality::evaluate(&contacts, &frame, &options)?)))?;
     Ok(to_py(py, &report)?)
 }

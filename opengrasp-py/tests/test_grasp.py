@@ -10,7 +10,11 @@ def test_four_contacts_on_a_sphere_are_force_closure():
     # A regular tetrahedron of contacts on the unit sphere, normals pointing inwards.
     p = np.array([[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1]], dtype=float) / np.sqrt(3)
     q = og.grasp_quality(p, -p, center_of_mass=[0, 0, 0], max_radius=1.0, friction=0.5)
-    assert q["force_closure"] and q["epsilon"] > 0 and q["volume"] > 0
+    assert q["force_closure"] and q["epsilon"] > 0
+    # The hull's volume and facet count are opt-in; epsilon is the same either way.
+    assert "volume" not in q and "hull_facets" not in q
+    full = og.grasp_quality(p, -p, center_of_mass=[0, 0, 0], max_radius=1.0, friction=0.5, hull_statistics=True)
+    assert full["volume"] > 0 and full["hull_facets"] > 0 and full["epsilon"] == q["epsilon"]
     assert q["wrench_dimension"] == 6
     # Without friction, point contacts on a sphere cannot resist torques.
     q0 = og.grasp_quality(p, -p, friction=0.0)

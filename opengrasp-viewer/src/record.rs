@@ -265,9 +265,14 @@ impl Recorder {
     pub fn log_grasp(&self, prefix: &str, g: &ReplayedGrasp) -> Result<()> {
         self.log_drawing(prefix, &grasp_drawing(g)?)?;
         let r = &g.record;
+        let hull = match (r.volume, r.hull_facets) {
+            (Some(v), Some(f)) => format!(", volume {v:.3e} ({f} facets)"),
+            (Some(v), None) => format!(", volume {v:.3e}"),
+            _ => String::new(),
+        };
         let text = format!(
-            "status {:?}\nforce closure: {}\nepsilon {:.5}, volume {:.3e}\ncontacts {}, palm contact {}\nphysics held: {:?}",
-            r.status, r.force_closure, r.epsilon, r.volume, r.contacts, r.palm_contact, r.physics_held
+            "status {:?}\nforce closure: {}\nepsilon {:.5}{hull}\ncontacts {}, palm contact {}\nphysics held: {:?}",
+            r.status, r.force_closure, r.epsilon, r.contacts, r.palm_contact, r.physics_held
         );
         self.log_static(&format!("{prefix}/summary"), &TextDocument::new(text))?;
         if let Some(frame) = &r.tactile {

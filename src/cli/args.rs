@@ -213,10 +213,15 @@ pub struct RunArgs {
     #[arg(long)]
     pub physics: Option<usize>,
     /// Keep every evaluated grasp candidate (pose, preshape, approach, closed configuration,
-    /// contacts, force closure, epsilon, volume, physics outcome, tactile frame) in the results
-    /// file.
+    /// contacts, force closure, epsilon, physics outcome, tactile frame; hull volume and facet
+    /// count with `--hull-stats`) in the results file.
     #[arg(long)]
     pub grasps: bool,
+    /// Also compute each force-closure grasp's wrench-space hull volume and facet count (the
+    /// full 6-D hull; epsilon does not need it), stored with `--grasps`. Off by default: it
+    /// costs several times the rest of a grasp evaluation.
+    #[arg(long)]
+    pub hull_stats: bool,
     /// With `--grasps`: do not store the grasps' static tactile frames (stored by default for
     /// hands with tactile pads).
     #[arg(long)]

@@ -111,6 +111,9 @@ pub fn build_suite(args: &RunArgs) -> Result<Suite> {
     if let Some(n) = args.physics {
         suite = suite.physics_per_cell(n);
     }
+    if args.hull_stats {
+        suite = suite.hull_statistics(true);
+    }
     if args.grasps {
         suite = suite.record_grasps(true);
         if !args.no_tactile {

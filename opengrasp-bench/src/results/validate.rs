@@ -64,7 +64,9 @@ pub(super) fn validate_grasp(g: &GraspSection) -> Result<()> {
         at_most(&f("candidates"), c.candidates.len(), "evaluated", c.evaluated)?;
         for (k, r) in c.candidates.iter().enumerate() {
             non_negative(&f(&format!("candidates[{k}].epsilon")), r.epsilon)?;
-            non_negative(&f(&format!("candidates[{k}].volume")), r.volume)?;
+            if let Some(volume) = r.volume {
+                non_negative(&f(&format!("candidates[{k}].volume")), volume)?;
+            }
             at_most(&f(&format!("candidates[{k}].index")), r.index, "generated", c.generated.saturating_sub(1))?;
         }
         non_negative(&f("planning_seconds"), c.planning_seconds)?;

@@ -385,6 +385,15 @@ impl Suite {
         self
     }
 
+    /// Also computes the grasp wrench space hull's volume and facet count of every
+    /// force-closure grasp ([`opengrasp_grasp::quality::QualityOptions::hull_statistics`];
+    /// the full 6-D hull, several times the cost of the other metrics). Off by default and in
+    /// every stock suite size; recorded with [`Suite::record_grasps`].
+    pub fn hull_statistics(mut self, on: bool) -> Self {
+        self.grasp.evaluator.quality.hull_statistics = on;
+        self
+    }
+
     /// With [`Suite::record_grasps`], also stores each closed grasp's static tactile frame
     /// (hands with pads: the stock hands, or layouts given in `recording`;
     /// [`GraspBenchmarkConfig::tactile`]); `None` records none (the default).

@@ -326,8 +326,8 @@ impl GraspEvaluator {
         // 3. Contacts in the object frame (= world frame), inward normals.
         let raw = self.world.contacts_with_object(self.robot, &q, self.object, o.contact_margin)?;
         let mut evaluation = self.collect(palm, q, &raw, retraction);
-        // 4. Quality: force closure for every grasp; the 6-D hull (epsilon, volume) only for
-        // force-closure grasps (it is the expensive part, and epsilon is 0 otherwise).
+        // 4. Quality: force closure for every grasp; epsilon (and the opt-in hull statistics)
+        // only for force-closure grasps (epsilon is 0 otherwise).
         let contacts: Vec<Contact> = evaluation.contacts.iter().map(|c| c.contact).collect();
         let mut light = self.quality.clone();
         light.compute_hull = false;

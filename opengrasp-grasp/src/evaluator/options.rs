@@ -24,7 +24,7 @@ pub struct EvaluatorOptions {
     /// Friction coefficient between hand and object; `None` uses the object's. Default: `None`.
     pub friction: Option<f64>,
     /// Quality metrics options; its friction is replaced by `friction` (or the object's).
-    /// Default: [`QualityOptions::default`] (8-edge cones, hull for epsilon and volume).
+    /// Default: [`QualityOptions::default`] (8-edge cones, epsilon, no hull statistics).
     pub quality: QualityOptions,
     /// Also compute GraspNet's friction score (smallest μ in 0.2..1.2 giving force closure).
     /// Default: `false`.

@@ -22,8 +22,12 @@
 //!   full dimension makes that the interior.
 //! * **Epsilon** (Ferrari-Canny, L1 variant): the radius of the largest origin-centred ball
 //!   inside `W`, i.e. the smallest facet offset of the 6-D convex hull ([`hull`]); 0 if the
-//!   origin is not strictly inside. Equivalently `min over unit u of max_i wᵢ · u`.
-//! * **Volume**: the 6-D volume of `W`.
+//!   origin is not strictly inside. Equivalently `min over unit u of max_i wᵢ · u`. Found
+//!   without the full hull by an expanding-polytope search that refines only the facets
+//!   nearest the origin ([`ConvexHull::depth_flat`]).
+//! * **Volume** and **facet count** of the 6-D hull of `W`: opt-in statistics
+//!   ([`QualityOptions::hull_statistics`]), since they need the full hull (several times the
+//!   cost of the rest of the metrics).
 //!
 //! Wrench sets spanning fewer than 6 dimensions (no contacts, one contact, coplanar
 //! configurations…) are *degenerate*: they never give force closure, epsilon and volume
@@ -57,9 +61,14 @@ pub struct QualityOptions {
     pub tolerance: f64,
     /// Relative singular-value threshold of the wrench set's affine rank. Default: `1e-9`.
     pub rank_tolerance: f64,
-    /// Whether to build the 6-D hull for epsilon and volume (`false` leaves both at 0 and
-    /// only answers the force-closure questions). Default: `true`.
+    /// Whether to compute epsilon (`false` leaves it at 0 and only answers the force-closure
+    /// questions; the hull statistics are then not computed either). Default: `true`.
     pub compute_hull: bool,
+    /// Whether to build the full 6-D hull for its volume and facet count
+    /// ([`QualityReport::volume`], [`QualityReport::hull_facets`]); epsilon does not need it.
+    /// Default: `false` (absent from older serialized options).
+    #[serde(default)]
+    pub hull_statistics: bool,
     /// Options of the convex hull (joggle, retries, seed). Default: [`HullOptions::default`].
     pub hull: HullOptions,
 }
@@ -71,6 +80,7 @@ impl Default for QualityOptions {
             tolerance: 1e-6,
             rank_tolerance: 1e-9,
             compute_hull: true,
+            hull_statistics: false,
             hull: HullOptions::default(),
         }
     }
@@ -113,16 +123,21 @@ pub struct QualityReport {
     /// Ferrari-Canny epsilon (L1): radius of the largest origin-centred ball in the wrench
     /// space; 0 without force closure.
     pub epsilon: f64,
-    /// Volume of the grasp wrench space (0 if degenerate or not computed).
-    pub volume: f64,
+    /// Volume of the grasp wrench space's 6-D hull, with
+    /// [`QualityOptions::hull_statistics`] (and `compute_hull`); `None` otherwise, `Some(0.0)`
+    /// if degenerate or when the hull was skipped ([`GraspQuality::evaluate_hull_if_closure`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub volume: Option<f64>,
     /// Affine dimension (0-6) spanned by the primitive wrenches.
     pub wrench_dimension: usize,
     /// The wrench set spans fewer than 6 dimensions (epsilon and volume are then 0).
     pub degenerate: bool,
     /// Number of primitive wrenches.
     pub num_wrenches: usize,
-    /// Number of facets of the 6-D hull (0 if not built).
-    pub hull_facets: usize,
+    /// Number of facets of the 6-D hull, with [`QualityOptions::hull_statistics`] (as
+    /// [`QualityReport::volume`]: `Some(0)` if the hull was not built, `None` if not asked).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hull_facets: Option<usize>,
 }
 
 /// Mean and spread of epsilon under random perturbations ([`GraspQuality::robust_epsilon`]).
@@ -206,11 +221,11 @@ impl GraspQuality {
         Self::evaluate_impl(ws, options, false)
     }
 
-    /// As [`GraspQuality::evaluate`], but the 6-D hull (when `options.compute_hull`) is built
-    /// only for force-closure grasps: the others keep epsilon, volume and hull facets at 0,
-    /// exactly as with `compute_hull = false`. The force-closure LP (and the min-norm QP when
-    /// needed) is solved once. This is what a grasp evaluator wants: epsilon is 0 without force
-    /// closure, and the hull is the expensive part.
+    /// As [`GraspQuality::evaluate`], but epsilon (when `options.compute_hull`) and the hull
+    /// statistics (when also `options.hull_statistics`) are computed only for force-closure
+    /// grasps: the others keep epsilon at 0 and the statistics at `Some(0)`, exactly as with
+    /// `compute_hull = false`. The force-closure LP (and the min-norm QP when needed) is solved
+    /// once. This is what a grasp evaluator wants: epsilon is 0 without force closure.
     ///
     /// # Errors
     /// See [`GraspQuality::evaluate`].
@@ -228,17 +243,18 @@ impl GraspQuality {
         options.validate()?;
         let wrenches = ws.wrenches();
         let n = wrenches.len();
+        let stats = options.compute_hull && options.hull_statistics;
         let mut report = QualityReport {
             force_closure: false,
             origin_in_hull: false,
             min_norm_distance: f64::INFINITY,
             positive_combination_margin: f64::NEG_INFINITY,
             epsilon: 0.0,
-            volume: 0.0,
+            volume: stats.then_some(0.0),
             wrench_dimension: 0,
             degenerate: true,
             num_wrenches: n,
-            hull_facets: 0,
+            hull_facets: stats.then_some(0),
         };
         if n == 0 {
             return Ok(report);
@@ -266,11 +282,19 @@ impl GraspQuality {
         }
         if options.compute_hull && (report.force_closure || !hull_if_closure) {
             let coords: Vec<f64> = wrenches.iter().flat_map(|w| w.iter().copied()).collect();
-            match ConvexHull::summary_flat(6, &coords, &options.hull, &[0.0; 6]) {
-                Ok(hull) => {
-                    report.epsilon = if hull.depth > options.tolerance { hull.depth } else { 0.0 };
-                    report.volume = hull.volume;
-                    report.hull_facets = hull.facets;
+            let origin = [0.0; 6];
+            let metrics = ConvexHull::depth_flat(6, &coords, &options.hull, &origin).and_then(|depth| {
+                let summary =
+                    stats.then(|| ConvexHull::summary_flat(6, &coords, &options.hull, &origin)).transpose()?;
+                Ok((depth, summary))
+            });
+            match metrics {
+                Ok((depth, summary)) => {
+                    report.epsilon = if depth > options.tolerance { depth } else { 0.0 };
+                    if let Some(hull) = summary {
+                        report.volume = Some(hull.volume);
+                        report.hull_facets = Some(hull.facets);
+                    }
                 }
                 Err(GraspError::DegenerateHull { affine_rank, .. }) => {
                     report.wrench_dimension = affine_rank;

@@ -224,6 +224,7 @@ def grasp_quality(
     friction: float = 0.5,
     cone_edges: int = 8,
     torsional_friction: Optional[float] = None,
+    hull_statistics: bool = False,
 ) -> dict[str, Any]: ...
 
 class GraspEvaluator:

@@ -7,6 +7,8 @@ use rand_chacha::ChaCha8Rng;
 use super::linalg::{determinant, determinant6, plane};
 use super::{dot, ConvexHull};
 
+mod epsilon;
+
 /// End of an outside-point list.
 const NONE: u32 = u32::MAX;
 
@@ -63,6 +65,19 @@ impl Storage {
     }
 }
 
+/// The per-build scratch of [`Builder::insert`] (arrays borrowed from [`Storage`]).
+struct Scratch {
+    /// Random 64-bit keys of the points, summed into order-independent ridge hashes.
+    zobrist: Vec<u64>,
+    visible: Vec<usize>,
+    horizon: Vec<(usize, usize)>,
+    table: Vec<(u64, u32, u32)>,
+    vs: Vec<usize>,
+    ns: Vec<usize>,
+    /// Insertions so far (the stamp of [`Storage::mark`]).
+    iteration: u32,
+}
+
 thread_local! {
     static STORAGE: std::cell::RefCell<Storage> = std::cell::RefCell::default();
 }
@@ -109,6 +124,11 @@ pub(super) struct Builder<'a, D: Dim> {
     center: Vec<f64>,
     s: Storage,
     eps: f64,
+    /// Accept a plane from the `O(d)` cone update only if every vertex lies on it to
+    /// `1e-14 × scale` (else the QR of the vertices): the hull spot-checks two vertices to
+    /// `1e-11 × scale`, which lets normals drift far beyond rounding; the depth search needs
+    /// accurate planes (the hull keeps its check for its reference results).
+    exact_planes: bool,
     scale: f64,
     qr: Vec<f64>,
     vnorm: Vec<f64>,
@@ -127,12 +147,14 @@ impl<D: Dim> Drop for Builder<'_, D> {
 }
 
 impl<'a, D: Dim> Builder<'a, D> {
-    pub(super) fn run(
+    /// The builder with the initial simplex's `d + 1` facets (facet `j` omits `simplex[j]`)
+    /// and no outside sets.
+    fn start(
         dim: D,
         pts: &'a [f64],
-        unique: &[usize],
         simplex: &[usize],
         scale: f64,
+        exact_planes: bool,
     ) -> std::result::Result<Self, String> {
         let d = dim.n();
         let mut center = vec![0.0; d];
@@ -145,8 +167,8 @@ impl<'a, D: Dim> Builder<'a, D> {
             .try_with(|cell| cell.try_borrow_mut().map(|mut s| std::mem::take(&mut *s)).unwrap_or_default())
             .unwrap_or_default();
         s.clear();
-        let mut b =
-            Builder { dim, pts, center, s, eps: 1e-13 * scale, scale, qr: vec![0.0; d * d], vnorm: vec![0.0; d] };
+        let (qr, vnorm) = (vec![0.0; d * d], vec![0.0; d]);
+        let mut b = Builder { dim, pts, center, s, eps: 1e-13 * scale, exact_planes, scale, qr, vnorm };
         // Initial simplex: facet j omits simplex[j]; its neighbour opposite simplex[k] is facet k.
         let mut vs: Vec<usize> = Vec::with_capacity(d);
         let mut ns: Vec<usize> = Vec::with_capacity(d);
@@ -157,6 +179,45 @@ impl<'a, D: Dim> Builder<'a, D> {
             ns.extend((0..=d).filter(|&k| k != j));
             b.add_facet(&vs, &ns, None)?;
         }
+        Ok(b)
+    }
+
+    /// The scratch of [`Builder::insert`], taken out of the storage.
+    fn take_scratch(&mut self) -> Scratch {
+        let d = self.dim.n();
+        let mut rng = ChaCha8Rng::seed_from_u64(0x5eed);
+        let mut zobrist = std::mem::take(&mut self.s.zobrist);
+        zobrist.clear();
+        zobrist.extend((0..self.pts.len() / d).map(|_| rng.random::<u64>()));
+        Scratch {
+            zobrist,
+            visible: std::mem::take(&mut self.s.visible),
+            horizon: std::mem::take(&mut self.s.horizon),
+            table: std::mem::take(&mut self.s.table),
+            vs: vec![0; d],
+            ns: vec![usize::MAX; d],
+            iteration: 0,
+        }
+    }
+
+    /// Returns the scratch's arrays to the storage (kept per thread).
+    fn put_scratch(&mut self, x: Scratch) {
+        self.s.zobrist = x.zobrist;
+        self.s.visible = x.visible;
+        self.s.horizon = x.horizon;
+        self.s.table = x.table;
+    }
+
+    /// Quickhull: the full hull of the points `unique` (the initial `simplex` among them).
+    pub(super) fn run(
+        dim: D,
+        pts: &'a [f64],
+        unique: &[usize],
+        simplex: &[usize],
+        scale: f64,
+    ) -> std::result::Result<Self, String> {
+        let d = dim.n();
+        let mut b = Self::start(dim, pts, simplex, scale, false)?;
         for &i in unique {
             if simplex.contains(&i) {
                 continue;
@@ -170,110 +231,17 @@ impl<'a, D: Dim> Builder<'a, D> {
             }
         }
         let mut stack: Vec<usize> = (0..=d).filter(|&f| b.s.outside[f].head != NONE).collect();
-        let mut iteration = 0u32;
-        const EMPTY: u32 = u32::MAX;
-        const PAIRED: u32 = u32::MAX - 1;
-        let mut rng = ChaCha8Rng::seed_from_u64(0x5eed);
-        let mut zobrist = std::mem::take(&mut b.s.zobrist);
-        zobrist.clear();
-        zobrist.extend((0..pts.len() / d).map(|_| rng.random::<u64>()));
-        let mut visible = std::mem::take(&mut b.s.visible);
-        let mut horizon = std::mem::take(&mut b.s.horizon);
-        let mut table = std::mem::take(&mut b.s.table);
-        let mut vs = vec![0; d];
-        let mut ns = vec![usize::MAX; d];
+        let mut x = b.take_scratch();
         let result = (|| {
             while let Some(f0) = stack.pop() {
                 if !b.s.alive[f0] || b.s.outside[f0].head == NONE {
                     continue;
                 }
-                iteration += 1;
                 let apex = b.s.outside[f0].farthest.0;
-                // Breadth-first search of the facets visible from the apex.
-                let nf_total = b.s.alive.len();
-                b.s.mark.resize(nf_total, (0, 0.0));
-                visible.clear();
-                horizon.clear();
-                visible.push(f0);
-                // The apex is above f0 by the very distance that put it in f0's list.
-                b.s.mark[f0] = (iteration, b.dist(f0, apex));
-                let mut head = 0;
-                while head < visible.len() {
-                    let f = visible[head];
-                    head += 1;
-                    for i in 0..d {
-                        let g = b.s.nbrs[f * d + i] as usize;
-                        let (stamp, mut h) = b.s.mark[g];
-                        if stamp != iteration {
-                            h = b.dist(g, apex);
-                            b.s.mark[g] = (iteration, h);
-                            if h > b.eps {
-                                visible.push(g);
-                            }
-                        }
-                        let above = h > b.eps;
-                        if !above {
-                            horizon.push((f, i));
-                        }
-                    }
-                }
-                // Cone of new facets over the horizon; they get the contiguous indices
-                // first_new.. in horizon order.
-                let first_new = b.s.offsets.len();
-                for (k, &(f, i)) in horizon.iter().enumerate() {
-                    for (x, &v) in vs.iter_mut().zip(&b.s.verts[f * d..][..d]) {
-                        *x = v as usize;
-                    }
-                    vs[i] = apex;
-                    let other = b.s.nbrs[f * d + i] as usize;
-                    ns.iter_mut().for_each(|x| *x = usize::MAX);
-                    ns[i] = other;
-                    let cone = Some((f, other, apex, b.s.mark[f].1, b.s.mark[other].1));
-                    let nf = b.add_facet(&vs, &ns, cone)?;
-                    debug_assert_eq!(nf, first_new + k);
-                    let back =
-                        (0..d).find(|&j| b.s.nbrs[other * d + j] as usize == f).ok_or("broken neighbour link")?;
-                    b.s.nbrs[other * d + back] = nf as u32;
-                }
-                let new_facets = first_new..b.s.offsets.len();
-                // Pair the new facets' ridges through the apex: a ridge's key is the
-                // order-independent (Zobrist) hash of its vertices (64-bit, collisions are
-                // astronomically unlikely and would fail the final verification).
-                let size = (2 * new_facets.len() * (d - 1)).next_power_of_two();
-                table.clear();
-                table.resize(size, (0, EMPTY, 0));
-                let mut unpaired = 0usize;
-                for (&(_, i), nf) in horizon.iter().zip(new_facets.clone()) {
-                    let vs = &b.s.verts[nf * d..][..d];
-                    let hash = vs.iter().fold(0u64, |h, &v| h.wrapping_add(zobrist[v as usize]));
-                    for k in (0..d).filter(|&k| k != i) {
-                        let h = hash.wrapping_sub(zobrist[vs[k] as usize]);
-                        let mut slot = (h as usize) & (size - 1);
-                        loop {
-                            let (hb, fb, kb) = table[slot];
-                            if fb == EMPTY {
-                                table[slot] = (h, nf as u32, k as u32);
-                                unpaired += 1;
-                                break;
-                            }
-                            if hb == h && fb != PAIRED {
-                                b.s.nbrs[nf * d + k] = fb;
-                                b.s.nbrs[fb as usize * d + kb as usize] = nf as u32;
-                                table[slot].1 = PAIRED;
-                                unpaired -= 1;
-                                break;
-                            }
-                            slot = (slot + 1) & (size - 1);
-                        }
-                    }
-                }
-                if unpaired != 0 {
-                    return Err("horizon ridges do not pair up".to_string());
-                }
-                // Hand the outside points of the visible facets to the first new facet
-                // they are above (in creation order).
-                for &f in &visible {
-                    b.s.alive[f] = false;
+                let new_facets = b.insert(f0, apex, &mut x)?;
+                // Hand the outside points of the (now dead) visible facets to the first new
+                // facet they are above (in creation order).
+                for &f in &x.visible {
                     let mut e = b.s.outside[f].head;
                     b.s.outside[f].head = NONE;
                     while e != NONE {
@@ -296,12 +264,112 @@ impl<'a, D: Dim> Builder<'a, D> {
             }
             b.verify()
         })();
-        b.s.zobrist = zobrist;
-        b.s.visible = visible;
-        b.s.horizon = horizon;
-        b.s.table = table;
+        b.put_scratch(x);
         result?;
         Ok(b)
+    }
+
+    /// Adds `apex` (above facet `f0`) to the polytope: the facets visible from it, found by a
+    /// breadth-first search from `f0` and left in `x.visible`, die and are replaced by the
+    /// cone of new facets over their horizon, which get the contiguous indices returned.
+    fn insert(
+        &mut self,
+        f0: usize,
+        apex: usize,
+        x: &mut Scratch,
+    ) -> std::result::Result<std::ops::Range<usize>, String> {
+        const EMPTY: u32 = u32::MAX;
+        const PAIRED: u32 = u32::MAX - 1;
+        let d = self.dim.n();
+        let b = self;
+        x.iteration += 1;
+        let iteration = x.iteration;
+        let (visible, horizon, table, vs, ns, zobrist) =
+            (&mut x.visible, &mut x.horizon, &mut x.table, &mut x.vs, &mut x.ns, &x.zobrist);
+        // Breadth-first search of the facets visible from the apex.
+        let nf_total = b.s.alive.len();
+        b.s.mark.resize(nf_total, (0, 0.0));
+        visible.clear();
+        horizon.clear();
+        visible.push(f0);
+        // The apex is above f0 by the very distance that chose it.
+        b.s.mark[f0] = (iteration, b.dist(f0, apex));
+        let mut head = 0;
+        while head < visible.len() {
+            let f = visible[head];
+            head += 1;
+            for i in 0..d {
+                let g = b.s.nbrs[f * d + i] as usize;
+                let (stamp, mut h) = b.s.mark[g];
+                if stamp != iteration {
+                    h = b.dist(g, apex);
+                    b.s.mark[g] = (iteration, h);
+                    if h > b.eps {
+                        visible.push(g);
+                    }
+                }
+                let above = h > b.eps;
+                if !above {
+                    horizon.push((f, i));
+                }
+            }
+        }
+        // Cone of new facets over the horizon; they get the contiguous indices
+        // first_new.. in horizon order.
+        let first_new = b.s.offsets.len();
+        for (k, &(f, i)) in horizon.iter().enumerate() {
+            for (x, &v) in vs.iter_mut().zip(&b.s.verts[f * d..][..d]) {
+                *x = v as usize;
+            }
+            vs[i] = apex;
+            let other = b.s.nbrs[f * d + i] as usize;
+            ns.iter_mut().for_each(|x| *x = usize::MAX);
+            ns[i] = other;
+            let cone = Some((f, other, apex, b.s.mark[f].1, b.s.mark[other].1));
+            let nf = b.add_facet(vs, ns, cone)?;
+            debug_assert_eq!(nf, first_new + k);
+            let back = (0..d).find(|&j| b.s.nbrs[other * d + j] as usize == f).ok_or("broken neighbour link")?;
+            b.s.nbrs[other * d + back] = nf as u32;
+        }
+        let new_facets = first_new..b.s.offsets.len();
+        // Pair the new facets' ridges through the apex: a ridge's key is the
+        // order-independent (Zobrist) hash of its vertices (64-bit, collisions are
+        // astronomically unlikely and would fail the final verification).
+        let size = (2 * new_facets.len() * (d - 1)).next_power_of_two();
+        table.clear();
+        table.resize(size, (0, EMPTY, 0));
+        let mut unpaired = 0usize;
+        for (&(_, i), nf) in horizon.iter().zip(new_facets.clone()) {
+            let vs = &b.s.verts[nf * d..][..d];
+            let hash = vs.iter().fold(0u64, |h, &v| h.wrapping_add(zobrist[v as usize]));
+            for k in (0..d).filter(|&k| k != i) {
+                let h = hash.wrapping_sub(zobrist[vs[k] as usize]);
+                let mut slot = (h as usize) & (size - 1);
+                loop {
+                    let (hb, fb, kb) = table[slot];
+                    if fb == EMPTY {
+                        table[slot] = (h, nf as u32, k as u32);
+                        unpaired += 1;
+                        break;
+                    }
+                    if hb == h && fb != PAIRED {
+                        b.s.nbrs[nf * d + k] = fb;
+                        b.s.nbrs[fb as usize * d + kb as usize] = nf as u32;
+                        table[slot].1 = PAIRED;
+                        unpaired -= 1;
+                        break;
+                    }
+                    slot = (slot + 1) & (size - 1);
+                }
+            }
+        }
+        if unpaired != 0 {
+            return Err("horizon ridges do not pair up".to_string());
+        }
+        for &f in visible.iter() {
+            b.s.alive[f] = false;
+        }
+        Ok(new_facets)
     }
 
     /// Appends point `q`, `h` above facet `f`, to the facet's outside list.
@@ -391,10 +459,13 @@ impl<'a, D: Dim> Builder<'a, D> {
                 normal.iter_mut().for_each(|x| *x /= len);
                 let b = dot(normal, &self.pts[apex * d..][..d]);
                 // Spot-check two vertices (one is not the apex) against drift of the
-                // parents' normals.
-                let on_plane = [vs[0], vs[d - 1]]
-                    .iter()
-                    .all(|&v| (dot(normal, &self.pts[v * d..][..d]) - b).abs() <= 1e-11 * self.scale);
+                // parents' normals; with exact planes, every vertex to 1e-14 · scale.
+                let on = |v: &usize, tol: f64| (dot(normal, &self.pts[v * d..][..d]) - b).abs() <= tol * self.scale;
+                let on_plane = if self.exact_planes {
+                    vs[..d].iter().all(|v| on(v, 1e-14))
+                } else {
+                    [vs[0], vs[d - 1]].iter().all(|v| on(v, 1e-11))
+                };
                 let below = dot(normal, &self.center) - b < -1e-12 * self.scale;
                 if on_plane && below {
                     offset = Some(b);
@@ -404,7 +475,7 @@ impl<'a, D: Dim> Builder<'a, D> {
         let offset = match offset {
             Some(b) => b,
             None => plane(
-                d,
+                self.dim,
                 self.pts,
                 vs,
                 &self.center,
@@ -463,6 +534,15 @@ impl<'a, D: Dim> Builder<'a, D> {
             }
         }
         if d == 6 { determinant6(m) } else { determinant(d, m) }.abs() / factorial
+    }
+
+    /// The depth of `point`: `min over facets of (b − n · point)`.
+    pub(super) fn depth(&self, point: &[f64]) -> f64 {
+        let d = self.dim.n();
+        (0..self.s.alive.len())
+            .filter(|&f| self.s.alive[f])
+            .map(|f| self.s.offsets[f] - dot(&self.s.normals[f * d..][..d], point))
+            .fold(f64::INFINITY, f64::min)
     }
 
     /// The depth of `point`, the volume and the facet count of the hull [`Builder::finish`]

@@ -3,6 +3,7 @@
 
 use crate::error::{GraspError, Result};
 
+use super::builder::Dim;
 use super::dot;
 
 /// Greedy (pivoted Gram-Schmidt) choice of `d + 1` affinely independent points.
@@ -48,10 +49,12 @@ pub(super) fn initial_simplex(d: usize, pts: &[f64], unique: &[usize], scale: f6
 
 /// Unit normal (written to `normal`) and offset of the hyperplane through the points `vs`,
 /// oriented so that `center` lies below it. `None` if the points are (numerically)
-/// affinely dependent or the plane passes through `center`.
+/// affinely dependent or the plane passes through `center`. Generic over the dimension so
+/// that with [`Fixed`](super::builder::Fixed) every loop has a constant length (the same
+/// operations in the same order either way, so the same bits).
 #[allow(clippy::too_many_arguments)]
-pub(super) fn plane(
-    d: usize,
+pub(super) fn plane<D: Dim>(
+    dim: D,
     pts: &[f64],
     vs: &[usize],
     center: &[f64],
@@ -60,6 +63,7 @@ pub(super) fn plane(
     normal: &mut [f64],
     scale: f64,
 ) -> Option<f64> {
+    let d = dim.n();
     let m = d - 1;
     let x0 = &pts[vs[0] * d..(vs[0] + 1) * d];
     // Columns of qr: edge vectors x_k − x_0, k = 1..d.

@@ -180,6 +180,37 @@ impl ConvexHull {
         })
     }
 
+    /// The depth of `point` in the hull of `coords` (flat, `dim` per point) without building
+    /// the hull: an expanding-polytope search from the initial simplex that refines only the
+    /// facets nearest the point (see `builder::epsilon`). On the same joggled points as
+    /// [`ConvexHull::summary_flat`], so for a point inside the hull it agrees with that depth
+    /// to about `1e-14 × scale`, unless the hull needed a larger joggle; for a point outside it is non-positive (not
+    /// necessarily the hull's depth, which measures the largest facet violation). The grasp
+    /// metrics use it for the Ferrari-Canny epsilon (`point` = the origin). When the search's
+    /// polytope fails its verification (near-coplanar facets within the joggle, a few percent
+    /// of grasp wrench sets), the full hull of the same joggled points answers instead.
+    ///
+    /// # Errors
+    /// As [`ConvexHull::summary_flat`].
+    pub fn depth_flat(dim: usize, coords: &[f64], options: &HullOptions, point: &[f64]) -> Result<f64> {
+        if point.len() != dim {
+            return Err(GraspError::DimensionMismatch { index: 0, expected: dim, actual: point.len() });
+        }
+        // On an inconsistent polytope (near-coplanar facets within the joggle), the full hull of
+        // the same joggled points; a retry with a larger joggle only if that fails too.
+        build(dim, coords, options, |jog, unique, simplex, scale, _, _| {
+            if dim == 6 {
+                Builder::depth_search(Fixed::<6>, jog, unique, simplex, scale, point)
+                    .map(|(depth, _)| depth)
+                    .or_else(|_| Builder::run(Fixed::<6>, jog, unique, simplex, scale).map(|b| b.depth(point)))
+            } else {
+                Builder::depth_search(Dynamic(dim), jog, unique, simplex, scale, point)
+                    .map(|(depth, _)| depth)
+                    .or_else(|_| Builder::run(Dynamic(dim), jog, unique, simplex, scale).map(|b| b.depth(point)))
+            }
+        })
+    }
+
     /// Dimension of the space.
     pub fn dim(&self) -> usize {
         self.dim

@@ -5,6 +5,7 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+use super::builder::Dynamic;
 use super::linalg::{determinant, plane};
 use super::{dot, ConvexHull};
 
@@ -255,7 +256,7 @@ impl<'a> Reference<'a> {
         let offset = match offset {
             Some(b) => b,
             None => plane(
-                d,
+                Dynamic(d),
                 self.pts,
                 vs,
                 &self.center,
