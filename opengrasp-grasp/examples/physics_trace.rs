@@ -11,9 +11,11 @@
 //! simulated contact forces per link at the end of the clamped squeeze and every 10 ms for
 //! 50 ms after the release, with the net force the contacts put on the object and how far the
 //! joints moved; before the simulation, the static torque-limited test's weakest direction with
-//! its contact forces and actuator torques. SQUEEZE overrides
-//! [`PhysicsCheckOptions::squeeze`]; `solo` gives every coupled joint its own full motor
-//! (`coupled_actuators` off) for comparison with the shared actuator.
+//! its contact forces and actuator torques. The fingers push with their effort limits
+//! ([`PhysicsCheckOptions::effort`]); a SQUEEZE switches to the former position control with
+//! that [`PhysicsCheckOptions::squeeze`]; `solo` gives every coupled joint its own full motor
+//! (`coupled_actuators` off) for comparison with the shared actuator. The environment variable
+//! `CONTACT_HZ` overrides the contact natural frequency (`PhysicsOptions::contact_frequency`).
 
 use nalgebra::Vector3;
 use opengrasp_assets::{hands, objects};
@@ -58,8 +60,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut options = PhysicsCheckOptions::default();
     if let Some(squeeze) = args.get(3) {
         options.squeeze = squeeze.parse()?;
+        options.effort = None;
     }
     options.physics.coupled_actuators = args.get(4).map(String::as_str) != Some("solo");
+    if let Ok(hz) = std::env::var("CONTACT_HZ") {
+        options.physics.contact_frequency = hz.parse()?;
+    }
     let pick = |k: usize| &grasps[k * grasps.len() / 10];
     if args.get(2).map(String::as_str) == Some("all") {
         for k in 0..10 {
@@ -115,8 +121,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let name = &robot.joint(robot.dof_joint(a.dof)).name;
         println!("  static actuator {name:14} {:7.3} of {:.3} N·m", a.torque, a.limit);
     }
-    let squeeze =
-        TactileSeriesOptions { squeeze: options.squeeze, physics: options.physics.clone(), ..Default::default() };
+    let squeeze = TactileSeriesOptions {
+        squeeze: options.squeeze,
+        effort: options.effort,
+        physics: options.physics.clone(),
+        ..Default::default()
+    };
     let (mut engine, rid) = squeeze_engine::<RapierBackend>(&hand, &object, grasp, &squeeze)?;
     let dt = options.physics.timestep;
     engine.set_object_fixed(ObjectId(0), true)?;

@@ -17,7 +17,8 @@ use crate::scene::{ObjectId, RobotId, Scene};
 ///
 /// - Joints move towards their position targets at their velocity limit (or follow their
 ///   velocity targets), integrated exactly and clamped to the joint limits; a target within
-///   reach of one step is hit exactly.
+///   reach of one step is hit exactly. An effort target moves its joint at the velocity limit
+///   in the direction of the force (nothing resists it).
 /// - Objects do not fall: gravity, external forces and impulses are validated and then ignored,
 ///   so a free object stays where it is. Attached objects follow their link rigidly.
 /// - [`PhysicsEngine::contacts`] is always empty.

@@ -165,6 +165,16 @@ pub enum JointTarget {
     Position(f64),
     /// Move at this velocity (rad/s or m/s, clamped to the velocity limit) until a joint limit.
     Velocity(f64),
+    /// Push with this generalized force (N·m or N, its sign the direction), clamped to the
+    /// actuator's effort limit: a stall-torque actuator such as a real hand's motor, which
+    /// presses with its torque whatever the position. Dynamic backends apply it as an explicit
+    /// joint torque (rapier: equal and opposite torques on the joint's two bodies each substep),
+    /// tapered to zero between one and two times the joint's velocity limit so an unloaded joint
+    /// does not run away. Mimic joints get their share of the actuator: with
+    /// [`PhysicsOptions::coupled_actuators`] joint `i` with multiplier `m_i` gets `τ m_i / Σ m_k²`
+    /// (so `Σ m_i τ_i = τ`), otherwise `τ sign(m_i)` within its own effort limit. Kinematic
+    /// backends move the joint at its velocity limit in the direction of the force.
+    Effort(f64),
 }
 
 /// Linear and angular velocity of a rigid body in the world frame.
@@ -447,13 +457,15 @@ pub(crate) fn advance_reference(reference: f64, target: JointTarget, vmax: f64, 
             }
         }
         JointTarget::Velocity(v) => reference + v.clamp(-vmax, vmax) * dt,
+        JointTarget::Effort(0.0) => reference,
+        JointTarget::Effort(f) => reference + f.signum() * vmax * dt,
     };
     next.clamp(limits.0, limits.1)
 }
 
 pub(crate) fn check_target(target: JointTarget) -> Result<()> {
     let v = match target {
-        JointTarget::Position(v) | JointTarget::Velocity(v) => v,
+        JointTarget::Position(v) | JointTarget::Velocity(v) | JointTarget::Effort(v) => v,
     };
     crate::error::ensure_finite("joint target", [v])
 }

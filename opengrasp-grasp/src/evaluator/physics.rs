@@ -27,8 +27,22 @@ pub struct PhysicsCheckOptions {
     /// The closing joints (those with a non-zero closing velocity) are commanded this far (rad
     /// or m) beyond the closed configuration, so the motors keep pressing the fingers against
     /// the object (with the simulator's joint stiffness, capped at the joints' effort limits).
-    /// Default: 0.05.
+    /// Default: 0.05. Used only without `effort`.
     pub squeeze: f64,
+    /// `Some(f)`: the closing joints are stall-torque actuators
+    /// ([`opengrasp_core::physics::JointTarget::Effort`]): each of the hand's closing motors
+    /// presses in its closing direction with `f` times its effort limit whatever the finger
+    /// position, its torque shared by the joints it drives (with
+    /// [`PhysicsOptions::coupled_actuators`], by virtual work as in the static hold test).
+    /// Needs stiff contacts (`physics.contact_frequency` ≈ 1000 Hz): a light phalanx pressed
+    /// with force `F` sinks about `F / (m (2π f)²)` into the object. `None`: position control
+    /// `squeeze` past the closed configuration; at the default 30 Hz the fingers reach that
+    /// target by sinking into the soft contacts, so they press with the contacts' spring force
+    /// rather than their effort limits. Default: `None`. Uniform stall torques do not balance
+    /// fingers with several actuated joints and one contact (they roll along the object until
+    /// a joint limit), so on the benchmark grasps they hold fewer objects than position
+    /// control.
+    pub effort: Option<f64>,
     /// The object counts as held if gravity moves it less than this (m): the distance between
     /// its pose after `settle + duration` with gravity and its pose after the same time in a
     /// gravity-free control run (which cancels any squeeze-induced creep of the simulator).
@@ -71,6 +85,7 @@ impl Default for PhysicsCheckOptions {
             settle: 0.2,
             duration: 0.5,
             squeeze: 0.05,
+            effort: None,
             max_translation: 0.02,
             max_rotation: 0.35,
             drop_translation: 0.1,
@@ -142,9 +157,9 @@ pub fn physics_check(
 /// Checks a closed grasp on physics backend `E`.
 ///
 /// The hand is fixed at the evaluated pose in its closed configuration; the closing joints
-/// (non-zero closing velocity; spread and other joints hold their value) are commanded
-/// `squeeze` beyond it, so the motors press the fingers against the object up to the joints'
-/// effort limits. The fingers squeeze for `settle` seconds without gravity, then gravity is
+/// (non-zero closing velocity; spread and other joints hold their value) push with `effort`
+/// times their actuators' effort limits (or, without `effort`, are commanded `squeeze` beyond
+/// the closed configuration). The fingers squeeze for `settle` seconds without gravity, then gravity is
 /// switched on for `duration`. The object (free, with its mass, inertia and friction, which
 /// also replaces the links' friction) is held for a direction if its final pose differs from
 /// the final pose of a gravity-free control run of the same length by at most
@@ -183,6 +198,7 @@ pub fn physics_check_with<E: PhysicsEngine>(
     // configuration, the object (the scene's only one) free, its friction on the links.
     let squeeze = TactileSeriesOptions {
         squeeze: options.squeeze,
+        effort: options.effort,
         gravity: Vector3::zeros(),
         physics: options.physics.clone(),
         ..TactileSeriesOptions::default()
