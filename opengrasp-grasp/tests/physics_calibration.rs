@@ -42,11 +42,7 @@ const PAD: f64 = 0.01;
 fn gripper(alpha: f64) -> Hand {
     let mid = HEIGHT / 2.0 + 0.005;
     let pad_size = Vector3::new(0.06, PAD, 0.05);
-    let mut b = RobotBuilder::new("pinch_gripper").link(
-        Link::new("palm")
-            .with_shape(Shape::new(Isometry3::translation(0.0, 0.0, -0.005), Geometry::cuboid(0.06, 0.14, 0.01)))
-            .with_inertial(Inertial::solid_box(0.3, Vector3::new(0.06, 0.14, 0.01), Isometry3::identity())),
-    );
+    let mut b = palm();
     for (name, side) in [("left", 1.0), ("right", -1.0)] {
         // The pad's inner face lies on the object face through (y, z) = (side·HALF_WIDTH, mid),
         // whose outward normal is (side·cos α, -sin α).
@@ -65,6 +61,21 @@ fn gripper(alpha: f64) -> Hand {
                     .limits(-0.02, 0.05, 0.1, PAD_FORCE),
             );
     }
+    two_finger_hand(b, "slide")
+}
+
+/// The palm of both grippers: a 6 × 14 × 1 cm plate under the palm frame.
+fn palm() -> RobotBuilder {
+    RobotBuilder::new("two_finger_gripper").link(
+        Link::new("palm")
+            .with_shape(Shape::new(Isometry3::translation(0.0, 0.0, -0.005), Geometry::cuboid(0.06, 0.14, 0.01)))
+            .with_inertial(Inertial::solid_box(0.3, Vector3::new(0.06, 0.14, 0.01), Isometry3::identity())),
+    )
+}
+
+/// A hand from a gripper with fingers `left` and `right` closed by joints `left_{joint}` and
+/// `right_{joint}`, palm normal +z.
+fn two_finger_hand(b: RobotBuilder, joint: &str) -> Hand {
     let spec = HandSpec {
         urdf: None,
         palm_link: "palm".into(),
@@ -75,7 +86,7 @@ fn gripper(alpha: f64) -> Hand {
             .iter()
             .map(|f| FingerSpec { name: f.to_string(), links: vec![f.to_string()] })
             .collect(),
-        closing: vec![("left_slide".into(), 1.0), ("right_slide".into(), 1.0)],
+        closing: vec![(format!("left_{joint}"), 1.0), (format!("right_{joint}"), 1.0)],
         tactile_links: Vec::new(),
     };
     Hand::from_robot(b.build().unwrap(), spec).unwrap()
@@ -176,11 +187,7 @@ const BALL: f64 = 0.005;
 /// A stalled finger pushes its balls into the face with `FINGER_TORQUE / LEVER` = 10 N in
 /// total; friction along x (the joint axis) loads no joint.
 fn revolute_gripper() -> Hand {
-    let mut b = RobotBuilder::new("revolute_pinch").link(
-        Link::new("palm")
-            .with_shape(Shape::new(Isometry3::translation(0.0, 0.0, -0.005), Geometry::cuboid(0.06, 0.14, 0.01)))
-            .with_inertial(Inertial::solid_box(0.3, Vector3::new(0.06, 0.14, 0.01), Isometry3::identity())),
-    );
+    let mut b = palm();
     for (name, side) in [("left", 1.0), ("right", -1.0)] {
         let stem = Isometry3::translation(0.0, 0.0, LEVER / 2.0);
         let mut link = Link::new(name)
@@ -197,20 +204,7 @@ fn revolute_gripper() -> Hand {
                 .limits(-0.5, 0.5, 1.0, FINGER_TORQUE),
         );
     }
-    let spec = HandSpec {
-        urdf: None,
-        palm_link: "palm".into(),
-        palm_frame: Isometry3::identity(),
-        approach: Vector3::z(),
-        preshapes: Vec::new(),
-        fingers: ["left", "right"]
-            .iter()
-            .map(|f| FingerSpec { name: f.to_string(), links: vec![f.to_string()] })
-            .collect(),
-        closing: vec![("left_joint".into(), 1.0), ("right_joint".into(), 1.0)],
-        tactile_links: Vec::new(),
-    };
-    Hand::from_robot(b.build().unwrap(), spec).unwrap()
+    two_finger_hand(b, "joint")
 }
 
 #[test]
