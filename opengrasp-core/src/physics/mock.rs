@@ -234,3 +234,33 @@ impl PhysicsEngine for MockBackend {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Arc;
+
+    use nalgebra::Isometry3;
+
+    use super::MockBackend;
+    use crate::model::samples::planar_arm;
+    use crate::physics::{velocity_limit, JointTarget, PhysicsEngine, PhysicsOptions};
+    use crate::scene::Scene;
+
+    /// Nothing resists an effort target on the kinematic backend: the joint moves at its
+    /// velocity limit in the direction of the force; a zero force holds it.
+    #[test]
+    fn effort_targets_move_at_the_velocity_limit_towards_the_force() {
+        let robot = Arc::new(planar_arm(&[0.5, 0.4]).unwrap());
+        let mut scene = Scene::new("effort");
+        let arm = scene.add_robot("arm", Arc::clone(&robot), Isometry3::identity()).unwrap();
+        let options = PhysicsOptions::default();
+        let mut engine = MockBackend::from_scene(&scene, &options).unwrap();
+        engine.set_joint_target(arm, 0, JointTarget::Effort(-3.0)).unwrap();
+        engine.set_joint_target(arm, 1, JointTarget::Effort(0.0)).unwrap();
+        engine.step_n(10, 0.01).unwrap();
+        let q = engine.joint_positions(arm).unwrap();
+        let expected = -0.1 * velocity_limit(&robot, 0, &options);
+        assert!((q[0] - expected).abs() < 1e-12, "{q:?}, expected {expected}");
+        assert_eq!(q[1], 0.0);
+    }
+}
