@@ -16,6 +16,11 @@ use opengrasp_grasp::planners::{
 mod common;
 use common::cylinder_mesh;
 
+/// A 20 cm, 0.1 kg cylinder of radius `radius` (m) with μ = 0.8.
+fn cylinder_object(radius: f64) -> opengrasp_assets::objects::ObjectModel {
+    opengrasp_assets::objects::ObjectModel::from_mesh("can", cylinder_mesh(radius, 0.2, 32), 0.1, 0.8).unwrap()
+}
+
 fn side_grasp(info: &HandInfo) -> GraspCandidate {
     // Hand on the +x side moving towards -x, fingers closing along y around the z axis.
     let approach = Unit::new_normalize(-Vector3::x());
@@ -181,8 +186,7 @@ fn evaluation_is_deterministic_and_planners_share_the_criterion() {
 fn physics_check_holds_a_force_closure_wrap() {
     let hand = hands::barrett();
     let info = hand_info(&hand).unwrap();
-    let object =
-        opengrasp_assets::objects::ObjectModel::from_mesh("can", cylinder_mesh(0.02, 0.2, 32), 0.1, 0.8).unwrap();
+    let object = cylinder_object(0.02);
     let mut ev = GraspEvaluator::new(&hand, &object, EvaluatorOptions::default()).unwrap();
     let e = ev.evaluate(&side_grasp(&info)).unwrap();
     assert!(e.force_closure());
@@ -205,8 +209,7 @@ fn physics_check_armar3_hand_holds_a_6cm_cylinder_but_not_a_fingertip_pinch() {
     // force closure, and the cylinder falls out.
     let hand = hands::armar3_hand();
     let info = hand_info(&hand).unwrap();
-    let object =
-        opengrasp_assets::objects::ObjectModel::from_mesh("can", cylinder_mesh(0.03, 0.2, 32), 0.1, 0.8).unwrap();
+    let object = cylinder_object(0.03);
     let mut ev = GraspEvaluator::new(&hand, &object, EvaluatorOptions::default()).unwrap();
     let wrap = ev.evaluate(&side_grasp(&info)).unwrap();
     assert!(wrap.force_closure() && wrap.palm_contact, "{wrap:?}");
@@ -400,8 +403,7 @@ fn stall_torque_grip_holds_the_barrett_wrap_but_squeezes_the_armar3_cylinder_out
     // control holds the same grasp (`physics_check_armar3_hand_holds_a_6cm_cylinder_...`).
     let armar = hands::armar3_hand();
     let info = hand_info(&armar).unwrap();
-    let cylinder =
-        opengrasp_assets::objects::ObjectModel::from_mesh("can", cylinder_mesh(0.03, 0.2, 32), 0.1, 0.8).unwrap();
+    let cylinder = cylinder_object(0.03);
     let mut ev = GraspEvaluator::new(&armar, &cylinder, EvaluatorOptions::default()).unwrap();
     let wrap = ev.evaluate(&side_grasp(&info)).unwrap();
     let out = physics_check(&armar, &cylinder, &wrap, &options).unwrap();
