@@ -156,6 +156,14 @@ impl PhysicsEngine for MockBackend {
         Ok(())
     }
 
+    fn set_joint_force_limit(&mut self, robot: RobotId, joint: crate::model::JointId, limit: f64) -> Result<()> {
+        let r = self.robot(robot)?;
+        if r.robot.driving_dof(joint).is_none() || joint.0 >= r.robot.joints().len() {
+            return Err(CoreError::InvalidHandle { kind: "joint", index: joint.0 });
+        }
+        super::check_force_limit(limit)
+    }
+
     fn joint_positions(&self, robot: RobotId) -> Result<Vec<f64>> {
         Ok(self.robot(robot)?.q.clone())
     }

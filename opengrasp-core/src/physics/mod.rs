@@ -44,7 +44,7 @@ pub use mock::MockBackend;
 pub use rapier::RapierBackend;
 
 use crate::error::{CoreError, Result};
-use crate::model::LinkId;
+use crate::model::{JointId, LinkId};
 use crate::scene::{BodyId, ObjectId, RobotId, Scene};
 
 /// Settings shared by all physics backends.
@@ -284,6 +284,16 @@ pub trait PhysicsEngine: Send {
     /// for a non-finite target.
     fn set_joint_target(&mut self, robot: RobotId, dof: usize, target: JointTarget) -> Result<()>;
 
+    /// Caps the force (N·m, or N for a prismatic joint) of joint `joint`'s motor at `limit`,
+    /// replacing its share of the actuator's effort limit: a position target beyond contact then
+    /// presses with exactly `limit` while the joint is stalled (an implicit, stable stall
+    /// torque). Coupled joints keep their own caps. Kinematic backends check and ignore it.
+    ///
+    /// # Errors
+    /// [`CoreError::InvalidHandle`] for an unknown robot or a joint without a motor (fixed or
+    /// unknown), [`CoreError::InvalidParameter`] for a negative or non-finite limit.
+    fn set_joint_force_limit(&mut self, robot: RobotId, joint: JointId, limit: f64) -> Result<()>;
+
     /// Sets position targets for every dof of `robot` (one value per configuration index).
     /// Nothing changes if any value is invalid.
     ///
@@ -461,6 +471,11 @@ pub(crate) fn advance_reference(reference: f64, target: JointTarget, vmax: f64, 
         JointTarget::Effort(f) => reference + f.signum() * vmax * dt,
     };
     next.clamp(limits.0, limits.1)
+}
+
+/// Checks a motor force limit (finite, >= 0).
+pub(crate) fn check_force_limit(limit: f64) -> Result<()> {
+    check_param("limit", limit, limit.is_finite() && limit >= 0.0, "must be finite and >= 0")
 }
 
 pub(crate) fn check_target(target: JointTarget) -> Result<()> {

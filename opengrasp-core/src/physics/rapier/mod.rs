@@ -10,7 +10,7 @@ use nalgebra::{Isometry3, Point3, Vector2, Vector3};
 use rapier3d_f64::parry::mass_properties::MassProperties;
 use rapier3d_f64::prelude::{
     BroadPhaseBvh, CCDSolver, ColliderHandle, ColliderSet, ImpulseJointHandle, ImpulseJointSet, IntegrationParameters,
-    IslandManager, MultibodyJointHandle, MultibodyJointSet, NarrowPhase, PhysicsPipeline, RigidBodyBuilder,
+    IslandManager, JointAxis, MultibodyJointHandle, MultibodyJointSet, NarrowPhase, PhysicsPipeline, RigidBodyBuilder,
     RigidBodyHandle, RigidBodySet, RigidBodyType,
 };
 
@@ -283,6 +283,22 @@ impl PhysicsEngine for RapierBackend {
             r.dofs[dof].reference = r.q[dof];
         }
         r.dofs[dof].target = target;
+        Ok(())
+    }
+
+    fn set_joint_force_limit(&mut self, robot: RobotId, joint: crate::model::JointId, limit: f64) -> Result<()> {
+        let r = self.robot(robot)?;
+        let bad = CoreError::InvalidHandle { kind: "joint", index: joint.0 };
+        let Some(Some(e)) = r.joints.get(joint.0).copied() else { return Err(bad) };
+        if r.robot.driving_dof(joint).is_none() {
+            return Err(bad);
+        }
+        super::check_force_limit(limit)?;
+        let axis = if e.prismatic { JointAxis::LinX } else { JointAxis::AngX };
+        let Some((mb, link_id)) = self.multibody_joints.get_mut(e.handle) else { return Err(bad) };
+        if let Some(link) = mb.link_mut(link_id) {
+            link.joint.data.set_motor_max_force(axis, limit);
+        }
         Ok(())
     }
 
