@@ -158,7 +158,7 @@ impl PhysicsEngine for MockBackend {
 
     fn set_joint_force_limit(&mut self, robot: RobotId, joint: crate::model::JointId, limit: f64) -> Result<()> {
         let r = self.robot(robot)?;
-        if r.robot.driving_dof(joint).is_none() || joint.0 >= r.robot.joints().len() {
+        if joint.0 >= r.robot.joints().len() || r.robot.driving_dof(joint).is_none() {
             return Err(CoreError::InvalidHandle { kind: "joint", index: joint.0 });
         }
         super::check_force_limit(limit)
