@@ -51,11 +51,14 @@ pub struct PhysicsCheckOptions {
     /// implicit stall torque: a position target `squeeze_beyond` past the closed configuration
     /// with the joint's motor force capped at `|τᵢ|` (rapier's implicit motor then presses
     /// with exactly `|τᵢ|` while stalled). Needs stiff contacts (as `effort`). Default: `None`.
-    /// Measured (1 kHz contacts, `physics_sweep per_cell=5`): the Barrett salt-can wrap holds
-    /// in all six directions, but over the benchmark's force-closure palm grasps Barrett holds
-    /// 14/79 and ARMAR-III 0/80, fewer than position control (21/79, 4/80): the torques balance
-    /// the evaluator's contacts, and where the simulated contacts differ (a palm contact that
-    /// does not touch, fingertips that roll) the constant torques push the object out.
+    /// A grasp without any balanced grip (every torque zero: no squeeze of all finger contacts
+    /// fits the cones and signs) is checked as without `balanced`.
+    /// Measured (1 kHz contacts, `physics_sweep balanced=1 contact_hz=1000 per_cell=5`): the
+    /// Barrett salt-can wrap holds in all six directions, but over the benchmark's
+    /// force-closure palm grasps Barrett holds 15/79 and ARMAR-III 0/80, fewer than position
+    /// control (21/79, 4/80): the torques balance the evaluator's contacts, and where the
+    /// simulated contacts differ (a palm contact that does not touch, fingertips that roll) the
+    /// constant torques push the object out.
     pub balanced: Option<f64>,
     /// Friction margin of the balanced grip: its contact forces stay inside cones of
     /// `grip_margin × μ`, leaving friction for gravity. Default: 0.5.
@@ -215,7 +218,8 @@ pub fn physics_check_with<E: PhysicsEngine>(
     }
     // The hand fixed at its pose, the closing joints commanded `squeeze` past the closed
     // configuration, the object (the scene's only one) free, its friction on the links.
-    // Balanced grip: torques per joint, pressed through position targets well beyond contact.
+    // Balanced grip: torques per joint, pressed through position targets `squeeze` past the
+    // closed configuration with the motor forces capped at the torques.
     let grip = match options.balanced {
         Some(f) => Some(super::grip::grip_torques(
             hand,
@@ -226,7 +230,9 @@ pub fn physics_check_with<E: PhysicsEngine>(
             options.physics.coupled_actuators,
         )?),
         None => None,
-    };
+    }
+    // No balanced grip at all (every torque zero): the grasp is checked as without `balanced`.
+    .filter(|g| g.joints.iter().any(|j| j.torque.abs() > 1e-6 * j.limit));
     let squeeze = TactileSeriesOptions {
         squeeze: options.squeeze,
         effort: if grip.is_some() { None } else { options.effort },
