@@ -55,8 +55,9 @@ pub struct PhysicsCheckOptions {
     /// fits the cones and signs) is checked as without `balanced`.
     /// Measured (1 kHz contacts, `physics_sweep balanced=1 contact_hz=1000 per_cell=5`): the
     /// Barrett salt-can wrap holds in all six directions, but over the benchmark's
-    /// force-closure palm grasps Barrett holds 15/79 and ARMAR-III 0/80, fewer than position
-    /// control (21/79, 4/80): the torques balance the evaluator's contacts, and where the
+    /// force-closure palm grasps Barrett holds 15/79 (18/79 with `balanced = 0.3`; 25/79 at
+    /// the default 30 Hz contacts) and ARMAR-III 0/80, no more than position control (26/79,
+    /// 0/80 with the same sweep): the torques balance the evaluator's contacts, and where the
     /// simulated contacts differ (a palm contact that does not touch, fingertips that roll) the
     /// constant torques push the object out.
     pub balanced: Option<f64>,
