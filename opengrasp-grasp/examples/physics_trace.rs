@@ -11,9 +11,14 @@
 //! simulated contact forces per link at the end of the clamped squeeze and every 10 ms for
 //! 50 ms after the release, with the net force the contacts put on the object and how far the
 //! joints moved; before the simulation, the static torque-limited test's weakest direction with
-//! its contact forces and actuator torques. SQUEEZE overrides
-//! [`PhysicsCheckOptions::squeeze`]; `solo` gives every coupled joint its own full motor
-//! (`coupled_actuators` off) for comparison with the shared actuator.
+//! its contact forces and actuator torques. The fingers push with their effort limits
+//! ([`PhysicsCheckOptions::effort`]); a SQUEEZE switches to the former position control with
+//! that [`PhysicsCheckOptions::squeeze`]; `solo` gives every coupled joint its own full motor
+//! (`coupled_actuators` off) for comparison with the shared actuator. The environment variable
+//! `CONTACT_HZ` overrides the contact natural frequency (`PhysicsOptions::contact_frequency`),
+//! `SQUEEZE` the squeeze, `BALANCED=f` switches to the balanced grip torques
+//! ([`PhysicsCheckOptions::balanced`], printed with their contact forces) and `GRAVITY=x,y,z`
+//! (object frame, m/s²) switches gravity on at the release of the traced grasp.
 
 use nalgebra::Vector3;
 use opengrasp_assets::{hands, objects};
@@ -21,7 +26,7 @@ use opengrasp_core::physics::{ContactBody, PhysicsEngine, RapierBackend};
 use opengrasp_core::scene::ObjectId;
 use opengrasp_grasp::contact::ObjectFrame;
 use opengrasp_grasp::evaluator::{
-    physics_check, static_hold, EvaluatorOptions, GraspEvaluator, PhysicsCheckOptions, StaticHoldOptions,
+    grip_torques, physics_check, static_hold, EvaluatorOptions, GraspEvaluator, PhysicsCheckOptions, StaticHoldOptions,
 };
 use opengrasp_grasp::planners::{GraspPlanner, GraspRequest, MedialAxisPlanner, SurfaceNormalPlanner};
 use opengrasp_grasp::tactile::sources::{evaluation_contacts, squeeze_engine, TactileSeriesOptions};
@@ -58,8 +63,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut options = PhysicsCheckOptions::default();
     if let Some(squeeze) = args.get(3) {
         options.squeeze = squeeze.parse()?;
+        options.effort = None;
     }
     options.physics.coupled_actuators = args.get(4).map(String::as_str) != Some("solo");
+    if let Ok(hz) = std::env::var("CONTACT_HZ") {
+        options.physics.contact_frequency = hz.parse()?;
+    }
+    if let Ok(s) = std::env::var("SQUEEZE") {
+        options.squeeze = s.parse()?;
+    }
+    if let Ok(f) = std::env::var("BALANCED") {
+        options.balanced = Some(f.parse()?);
+    }
     let pick = |k: usize| &grasps[k * grasps.len() / 10];
     if args.get(2).map(String::as_str) == Some("all") {
         for k in 0..10 {
@@ -115,9 +130,35 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let name = &robot.joint(robot.dof_joint(a.dof)).name;
         println!("  static actuator {name:14} {:7.3} of {:.3} N·m", a.torque, a.limit);
     }
-    let squeeze =
-        TactileSeriesOptions { squeeze: options.squeeze, physics: options.physics.clone(), ..Default::default() };
+    let grip = match options.balanced {
+        Some(f) => {
+            Some(grip_torques(&hand, &object, grasp, f, options.grip_margin, options.physics.coupled_actuators)?)
+        }
+        None => None,
+    };
+    if let Some(g) = &grip {
+        println!("balanced grip: smallest normal force {:.2} N", g.min_normal);
+        for (c, f) in grasp.contacts.iter().zip(&g.contact_forces) {
+            let name = &robot.link(opengrasp_core::model::LinkId(c.link)).name;
+            println!("  grip {name:10} normal {:7.2} N, force {:.2?}", f.dot(&c.contact.normal), f.as_slice());
+        }
+        for j in &g.joints {
+            let name = &robot.joint(opengrasp_core::model::JointId(j.joint)).name;
+            println!("  grip joint {name:14} {:7.3} of {:.3} N·m", j.torque, j.limit);
+        }
+    }
+    let squeeze = TactileSeriesOptions {
+        squeeze: options.squeeze,
+        effort: if grip.is_some() { None } else { options.effort },
+        physics: options.physics.clone(),
+        ..Default::default()
+    };
     let (mut engine, rid) = squeeze_engine::<RapierBackend>(&hand, &object, grasp, &squeeze)?;
+    if let Some(g) = &grip {
+        for j in g.joints.iter().filter(|j| hand.closing_velocity()[j.dof] != 0.0) {
+            engine.set_joint_force_limit(rid, opengrasp_core::model::JointId(j.joint), j.torque.abs())?;
+        }
+    }
     let dt = options.physics.timestep;
     engine.set_object_fixed(ObjectId(0), true)?;
     engine.step_n((options.settle / dt).ceil() as usize, dt)?;
@@ -125,6 +166,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let q0 = engine.joint_positions(rid)?;
     println!("joints at the end of the squeeze {q0:.3?} (evaluated {:.3?})", grasp.q);
     engine.set_object_fixed(ObjectId(0), false)?;
+    if let Ok(g) = std::env::var("GRAVITY") {
+        let v: Vec<f64> = g.split(',').map(str::parse).collect::<Result<_, _>>()?;
+        engine.set_gravity(Vector3::new(v[0], v[1], v[2]))?;
+    }
     for k in 1..=5 {
         engine.step_n((0.01 / dt).ceil() as usize, dt)?;
         print_forces(&format!("{} ms after the release", 10 * k), &engine, robot, dt)?;

@@ -16,6 +16,11 @@ use opengrasp_grasp::planners::{
 mod common;
 use common::cylinder_mesh;
 
+/// A 20 cm, 0.1 kg cylinder of radius `radius` (m) with μ = 0.8.
+fn cylinder_object(radius: f64) -> opengrasp_assets::objects::ObjectModel {
+    opengrasp_assets::objects::ObjectModel::from_mesh("can", cylinder_mesh(radius, 0.2, 32), 0.1, 0.8).unwrap()
+}
+
 fn side_grasp(info: &HandInfo) -> GraspCandidate {
     // Hand on the +x side moving towards -x, fingers closing along y around the z axis.
     let approach = Unit::new_normalize(-Vector3::x());
@@ -181,8 +186,7 @@ fn evaluation_is_deterministic_and_planners_share_the_criterion() {
 fn physics_check_holds_a_force_closure_wrap() {
     let hand = hands::barrett();
     let info = hand_info(&hand).unwrap();
-    let object =
-        opengrasp_assets::objects::ObjectModel::from_mesh("can", cylinder_mesh(0.02, 0.2, 32), 0.1, 0.8).unwrap();
+    let object = cylinder_object(0.02);
     let mut ev = GraspEvaluator::new(&hand, &object, EvaluatorOptions::default()).unwrap();
     let e = ev.evaluate(&side_grasp(&info)).unwrap();
     assert!(e.force_closure());
@@ -205,8 +209,7 @@ fn physics_check_armar3_hand_holds_a_6cm_cylinder_but_not_a_fingertip_pinch() {
     // force closure, and the cylinder falls out.
     let hand = hands::armar3_hand();
     let info = hand_info(&hand).unwrap();
-    let object =
-        opengrasp_assets::objects::ObjectModel::from_mesh("can", cylinder_mesh(0.03, 0.2, 32), 0.1, 0.8).unwrap();
+    let object = cylinder_object(0.03);
     let mut ev = GraspEvaluator::new(&hand, &object, EvaluatorOptions::default()).unwrap();
     let wrap = ev.evaluate(&side_grasp(&info)).unwrap();
     assert!(wrap.force_closure() && wrap.palm_contact, "{wrap:?}");
@@ -368,4 +371,42 @@ fn barrett_power_grasp_holds_a_salt_can_against_gravity_in_all_six_directions() 
     let axial = StaticHoldOptions { directions: vec![-Vector3::z()], friction: Some(0.0), ..Default::default() };
     let slips = static_hold(&hand, &object, &e, &axial).unwrap();
     assert!(slips.directions[0].load_factor < 1e-6, "{slips:?}");
+}
+
+#[test]
+fn stall_torque_grip_holds_the_barrett_wrap_but_squeezes_the_armar3_cylinder_out() {
+    // The cylinder wraps of the position-control tests above, with the closing motors as
+    // stall-torque actuators at their effort limits (stiff 1 kHz contacts, so the 8–60 g
+    // phalanges do not sink into the object).
+    let defaults = PhysicsCheckOptions::default();
+    let options = PhysicsCheckOptions {
+        effort: Some(1.0),
+        physics: opengrasp_core::physics::PhysicsOptions { contact_frequency: 1000.0, ..defaults.physics.clone() },
+        ..defaults
+    };
+    // Barrett (one actuator per finger, distal joint coupled): held in all six directions,
+    // every displacement under 5 mm (measured 1.2–4.9 mm).
+    let barrett = hands::barrett();
+    let can = opengrasp_assets::objects::by_name("salt_can").unwrap();
+    let mut ev = GraspEvaluator::new(&barrett, &can, EvaluatorOptions::default()).unwrap();
+    let mut c = side_grasp(&ev.hand_info().clone());
+    c.hand_pose.translation.vector.z = 0.07;
+    let e = ev.evaluate(&c).unwrap();
+    let held = physics_check(&barrett, &can, &e, &options).unwrap();
+    assert_eq!(held.results, vec![HoldResult::Held; 6], "{held:?}");
+    assert!(held.translations.iter().all(|&t| t < 0.005), "{held:?}");
+    assert_eq!(physics_check(&barrett, &can, &e, &options).unwrap(), held);
+    // ARMAR-III (two actuators per index/middle finger: proximal, and middle+distal coupled):
+    // equal stall torques on a finger touching with its tip only are not in equilibrium, so
+    // the tips roll round the cylinder to the distal joint limit and the tilted contact
+    // normals push it out of the hand without any gravity (measured: 2.4 m in 0.7 s). Position
+    // control holds the same grasp (`physics_check_armar3_hand_holds_a_6cm_cylinder_...`).
+    let armar = hands::armar3_hand();
+    let info = hand_info(&armar).unwrap();
+    let cylinder = cylinder_object(0.03);
+    let mut ev = GraspEvaluator::new(&armar, &cylinder, EvaluatorOptions::default()).unwrap();
+    let wrap = ev.evaluate(&side_grasp(&info)).unwrap();
+    let out = physics_check(&armar, &cylinder, &wrap, &options).unwrap();
+    assert!(out.grip_translation > 0.1, "{out:?}");
+    assert_eq!(out.result(), Some(HoldResult::Dropped), "{out:?}");
 }

@@ -8,13 +8,18 @@
 //!   force has a component `F tan α` pushing the wedge out of the hand, which friction holds
 //!   iff `μ ≥ tan α` (the squeeze line lies inside the friction cone), whatever `F`.
 //!
+//! - a box between two fingertip pairs on revolute fingers driven by stall-torque actuators
+//!   ([`PhysicsCheckOptions::effort`]), gravity along the joint axes: each finger presses with
+//!   `F = τ / L` (torque over lever), so it holds iff `2 μ τ / L ≥ m g`.
+//!
 //! Each case is run just below and just above its analytic threshold (5 % below; 5 % above
-//! for the box, 15 % for the wedge).
+//! for the boxes, 15 % for the wedge).
 
 use nalgebra::{Isometry3, Point3, Vector3};
 use opengrasp_core::hand::{FingerSpec, Hand, HandSpec};
 use opengrasp_core::model::{Geometry, Inertial, JointKind, JointSpec, Link, RobotBuilder, Shape, TriangleMesh};
 use opengrasp_core::object::ObjectModel;
+use opengrasp_core::physics::PhysicsOptions;
 use opengrasp_grasp::contact::Contact;
 use opengrasp_grasp::evaluator::{
     physics_check, static_hold, EvaluationStatus, GraspContact, GraspEvaluation, HoldResult, PhysicsCheckOptions,
@@ -37,11 +42,7 @@ const PAD: f64 = 0.01;
 fn gripper(alpha: f64) -> Hand {
     let mid = HEIGHT / 2.0 + 0.005;
     let pad_size = Vector3::new(0.06, PAD, 0.05);
-    let mut b = RobotBuilder::new("pinch_gripper").link(
-        Link::new("palm")
-            .with_shape(Shape::new(Isometry3::translation(0.0, 0.0, -0.005), Geometry::cuboid(0.06, 0.14, 0.01)))
-            .with_inertial(Inertial::solid_box(0.3, Vector3::new(0.06, 0.14, 0.01), Isometry3::identity())),
-    );
+    let mut b = palm();
     for (name, side) in [("left", 1.0), ("right", -1.0)] {
         // The pad's inner face lies on the object face through (y, z) = (side·HALF_WIDTH, mid),
         // whose outward normal is (side·cos α, -sin α).
@@ -60,6 +61,21 @@ fn gripper(alpha: f64) -> Hand {
                     .limits(-0.02, 0.05, 0.1, PAD_FORCE),
             );
     }
+    two_finger_hand(b, "slide")
+}
+
+/// The palm of both grippers: a 6 × 14 × 1 cm plate under the palm frame.
+fn palm() -> RobotBuilder {
+    RobotBuilder::new("two_finger_gripper").link(
+        Link::new("palm")
+            .with_shape(Shape::new(Isometry3::translation(0.0, 0.0, -0.005), Geometry::cuboid(0.06, 0.14, 0.01)))
+            .with_inertial(Inertial::solid_box(0.3, Vector3::new(0.06, 0.14, 0.01), Isometry3::identity())),
+    )
+}
+
+/// A hand from a gripper with fingers `left` and `right` closed by joints `left_{joint}` and
+/// `right_{joint}`, palm normal +z.
+fn two_finger_hand(b: RobotBuilder, joint: &str) -> Hand {
     let spec = HandSpec {
         urdf: None,
         palm_link: "palm".into(),
@@ -70,7 +86,7 @@ fn gripper(alpha: f64) -> Hand {
             .iter()
             .map(|f| FingerSpec { name: f.to_string(), links: vec![f.to_string()] })
             .collect(),
-        closing: vec![("left_slide".into(), 1.0), ("right_slide".into(), 1.0)],
+        closing: vec![(format!("left_{joint}"), 1.0), (format!("right_{joint}"), 1.0)],
         tactile_links: Vec::new(),
     };
     Hand::from_robot(b.build().unwrap(), spec).unwrap()
@@ -152,6 +168,89 @@ fn wedge_pinch_squeezes_out_iff_mu_is_below_tan_alpha() {
     // 4.8 mm at 5 % above).
     assert!(out.grip_translation > 0.1, "{out:?}");
     assert!(stays.grip_translation < 5e-3, "{stays:?}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// A revolute pinch: fingertip balls on levers, pressing with torque / lever
+// ---------------------------------------------------------------------------------------------
+
+/// Finger actuator torque (N·m) of [`revolute_gripper`].
+const FINGER_TORQUE: f64 = 0.25;
+/// Lever (m): height of the fingertip balls' centres above the finger joints.
+const LEVER: f64 = 0.025;
+/// Fingertip ball radius (m).
+const BALL: f64 = 0.005;
+
+/// Two fingers on revolute joints about ±x at the palm frame (5 mm below the box, y =
+/// ±(`HALF_WIDTH` + `BALL`)), each a thin stem with two balls at x = ±2 cm, `LEVER` above the
+/// joint, touching the box's side faces at its mid-height in the closed configuration `q = 0`.
+/// A stalled finger pushes its balls into the face with `FINGER_TORQUE / LEVER` = 10 N in
+/// total; friction along x (the joint axis) loads no joint.
+fn revolute_gripper() -> Hand {
+    let mut b = palm();
+    for (name, side) in [("left", 1.0), ("right", -1.0)] {
+        let stem = Isometry3::translation(0.0, 0.0, LEVER / 2.0);
+        let mut link = Link::new(name)
+            .with_shape(Shape::new(stem, Geometry::cuboid(0.05, 0.004, LEVER)))
+            .with_inertial(Inertial::solid_box(0.02, Vector3::new(0.05, 0.004, LEVER), stem));
+        for x in [-0.02, 0.02] {
+            link =
+                link.with_shape(Shape::new(Isometry3::translation(x, 0.0, LEVER), Geometry::Sphere { radius: BALL }));
+        }
+        b = b.link(link).joint(
+            JointSpec::new(format!("{name}_joint"), JointKind::Revolute, "palm", name)
+                .origin(Isometry3::translation(0.0, side * (HALF_WIDTH + BALL), 0.0))
+                .axis(Vector3::x() * side)
+                .limits(-0.5, 0.5, 1.0, FINGER_TORQUE),
+        );
+    }
+    two_finger_hand(b, "joint")
+}
+
+#[test]
+fn revolute_pinch_holds_its_weight_iff_two_mu_tau_over_lever_exceeds_mg() {
+    // Each finger presses with F = τ / L = 10 N, so the box needs 2 μ F ≥ m g along the joint
+    // axes: μ* = 0.49 for 1 kg.
+    let hand = revolute_gripper();
+    let mass = 1.0;
+    let force = FINGER_TORQUE / LEVER;
+    let threshold = mass * 9.81 / (2.0 * force);
+    // Stall-torque fingers on stiff contacts: at the check's default 30 Hz a 20 g finger
+    // pressing with 10 N sinks its balls about 14 mm into the box (`F / (m (2π f)²)`), so its
+    // stem touches too and adds normal force.
+    let defaults = PhysicsCheckOptions::default();
+    let along_axes = PhysicsCheckOptions {
+        directions: vec![Vector3::x(), -Vector3::x()],
+        effort: Some(1.0),
+        physics: PhysicsOptions { contact_frequency: 1000.0, ..defaults.physics.clone() },
+        ..defaults
+    };
+    let check = |mu: f64| physics_check(&hand, &wedge(0.0, mass, mu), &pinch(&hand), &along_axes).unwrap();
+    let slips = check(0.95 * threshold);
+    let holds = check(1.05 * threshold);
+    println!("revolute pinch: μ* = {threshold:.3}; below {slips:?}; above {holds:?}");
+    // 5 % below it slides ½ · 0.05 g · (0.5 s)² = 6.13 cm (measured 6.37 and 6.33 cm); 5 %
+    // above it stays to a few micrometres (measured 1.3 µm).
+    let sliding = 0.5 * 0.05 * 9.81 * 0.5f64.powi(2);
+    assert!(slips.results.iter().all(|&r| r != HoldResult::Held), "{slips:?}");
+    assert!(slips.translations.iter().all(|&t| (t - sliding).abs() < 0.1 * sliding), "{slips:?}");
+    assert_eq!(holds.results, vec![HoldResult::Held; 2], "{holds:?}");
+    assert!(holds.translations.iter().all(|&t| t < 1e-4), "{holds:?}");
+    // Deterministic to the last bit.
+    assert_eq!(check(1.05 * threshold), holds);
+}
+
+#[test]
+fn physics_check_rejects_bad_efforts() {
+    let hand = revolute_gripper();
+    let object = wedge(0.0, 0.1, 0.5);
+    for effort in [-1.0, f64::NAN] {
+        let options = PhysicsCheckOptions { effort: Some(effort), ..Default::default() };
+        assert!(matches!(
+            physics_check(&hand, &object, &pinch(&hand), &options).unwrap_err(),
+            GraspError::InvalidParameter { name: "effort", .. }
+        ));
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -17,7 +17,8 @@ use crate::scene::{ObjectId, RobotId, Scene};
 ///
 /// - Joints move towards their position targets at their velocity limit (or follow their
 ///   velocity targets), integrated exactly and clamped to the joint limits; a target within
-///   reach of one step is hit exactly.
+///   reach of one step is hit exactly. An effort target moves its joint at the velocity limit
+///   in the direction of the force (nothing resists it).
 /// - Objects do not fall: gravity, external forces and impulses are validated and then ignored,
 ///   so a free object stays where it is. Attached objects follow their link rigidly.
 /// - [`PhysicsEngine::contacts`] is always empty.
@@ -155,6 +156,14 @@ impl PhysicsEngine for MockBackend {
         Ok(())
     }
 
+    fn set_joint_force_limit(&mut self, robot: RobotId, joint: crate::model::JointId, limit: f64) -> Result<()> {
+        let r = self.robot(robot)?;
+        if joint.0 >= r.robot.joints().len() || r.robot.driving_dof(joint).is_none() {
+            return Err(CoreError::InvalidHandle { kind: "joint", index: joint.0 });
+        }
+        super::check_force_limit(limit)
+    }
+
     fn joint_positions(&self, robot: RobotId) -> Result<Vec<f64>> {
         Ok(self.robot(robot)?.q.clone())
     }
@@ -231,5 +240,35 @@ impl PhysicsEngine for MockBackend {
         o.attachment = None;
         o.velocity = BodyVelocity::default();
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Arc;
+
+    use nalgebra::Isometry3;
+
+    use super::MockBackend;
+    use crate::model::samples::planar_arm;
+    use crate::physics::{velocity_limit, JointTarget, PhysicsEngine, PhysicsOptions};
+    use crate::scene::Scene;
+
+    /// Nothing resists an effort target on the kinematic backend: the joint moves at its
+    /// velocity limit in the direction of the force; a zero force holds it.
+    #[test]
+    fn effort_targets_move_at_the_velocity_limit_towards_the_force() {
+        let robot = Arc::new(planar_arm(&[0.5, 0.4]).unwrap());
+        let mut scene = Scene::new("effort");
+        let arm = scene.add_robot("arm", Arc::clone(&robot), Isometry3::identity()).unwrap();
+        let options = PhysicsOptions::default();
+        let mut engine = MockBackend::from_scene(&scene, &options).unwrap();
+        engine.set_joint_target(arm, 0, JointTarget::Effort(-3.0)).unwrap();
+        engine.set_joint_target(arm, 1, JointTarget::Effort(0.0)).unwrap();
+        engine.step_n(10, 0.01).unwrap();
+        let q = engine.joint_positions(arm).unwrap();
+        let expected = -0.1 * velocity_limit(&robot, 0, &options);
+        assert!((q[0] - expected).abs() < 1e-12, "{q:?}, expected {expected}");
+        assert_eq!(q[1], 0.0);
     }
 }

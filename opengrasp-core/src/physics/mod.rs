@@ -44,7 +44,7 @@ pub use mock::MockBackend;
 pub use rapier::RapierBackend;
 
 use crate::error::{CoreError, Result};
-use crate::model::LinkId;
+use crate::model::{JointId, LinkId};
 use crate::scene::{BodyId, ObjectId, RobotId, Scene};
 
 /// Settings shared by all physics backends.
@@ -165,6 +165,16 @@ pub enum JointTarget {
     Position(f64),
     /// Move at this velocity (rad/s or m/s, clamped to the velocity limit) until a joint limit.
     Velocity(f64),
+    /// Push with this generalized force (N·m or N, its sign the direction), clamped to the
+    /// actuator's effort limit: a stall-torque actuator such as a real hand's motor, which
+    /// presses with its torque whatever the position. Dynamic backends apply it as an explicit
+    /// joint torque (rapier: equal and opposite torques on the joint's two bodies each substep),
+    /// tapered to zero between one and two times the joint's velocity limit so an unloaded joint
+    /// does not run away. Mimic joints get their share of the actuator: with
+    /// [`PhysicsOptions::coupled_actuators`] joint `i` with multiplier `m_i` gets `τ m_i / Σ m_k²`
+    /// (so `Σ m_i τ_i = τ`), otherwise `τ sign(m_i)` within its own effort limit. Kinematic
+    /// backends move the joint at its velocity limit in the direction of the force.
+    Effort(f64),
 }
 
 /// Linear and angular velocity of a rigid body in the world frame.
@@ -273,6 +283,16 @@ pub trait PhysicsEngine: Send {
     /// [`CoreError::InvalidHandle`] for an unknown robot or dof index, [`CoreError::NonFinite`]
     /// for a non-finite target.
     fn set_joint_target(&mut self, robot: RobotId, dof: usize, target: JointTarget) -> Result<()>;
+
+    /// Caps the force (N·m, or N for a prismatic joint) of joint `joint`'s motor at `limit`,
+    /// replacing its share of the actuator's effort limit: a position target beyond contact then
+    /// presses with exactly `limit` while the joint is stalled (an implicit, stable stall
+    /// torque). Coupled joints keep their own caps. Kinematic backends check and ignore it.
+    ///
+    /// # Errors
+    /// [`CoreError::InvalidHandle`] for an unknown robot or a joint without a motor (fixed or
+    /// unknown), [`CoreError::InvalidParameter`] for a negative or non-finite limit.
+    fn set_joint_force_limit(&mut self, robot: RobotId, joint: JointId, limit: f64) -> Result<()>;
 
     /// Sets position targets for every dof of `robot` (one value per configuration index).
     /// Nothing changes if any value is invalid.
@@ -447,13 +467,20 @@ pub(crate) fn advance_reference(reference: f64, target: JointTarget, vmax: f64, 
             }
         }
         JointTarget::Velocity(v) => reference + v.clamp(-vmax, vmax) * dt,
+        JointTarget::Effort(0.0) => reference,
+        JointTarget::Effort(f) => reference + f.signum() * vmax * dt,
     };
     next.clamp(limits.0, limits.1)
 }
 
+/// Checks a motor force limit (finite, >= 0).
+pub(crate) fn check_force_limit(limit: f64) -> Result<()> {
+    check_param("limit", limit, limit.is_finite() && limit >= 0.0, "must be finite and >= 0")
+}
+
 pub(crate) fn check_target(target: JointTarget) -> Result<()> {
     let v = match target {
-        JointTarget::Position(v) | JointTarget::Velocity(v) => v,
+        JointTarget::Position(v) | JointTarget::Velocity(v) | JointTarget::Effort(v) => v,
     };
     crate::error::ensure_finite("joint target", [v])
 }

@@ -22,6 +22,7 @@
 //! link.
 
 mod closing;
+mod grip;
 mod hand_data;
 mod options;
 mod physics;
@@ -43,6 +44,7 @@ use crate::quality::hull::{ConvexHull, HullOptions};
 use crate::quality::{GraspQuality, QualityOptions, QualityReport, RobustEpsilon};
 use opengrasp_core::object::ObjectModel;
 
+pub use grip::{grip_torques, GripTorques, JointTorque};
 pub use hand_data::hand_info;
 use hand_data::{hand_data, hand_radius, HandData};
 pub use options::EvaluatorOptions;

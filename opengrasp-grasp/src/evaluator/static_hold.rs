@@ -282,6 +282,25 @@ fn solve(
         b[6 + 2 * k + 1] = limit;
     }
     b[6 + 2 * na] = cap;
+    let mut q = vec![0.0; nx];
+    q[3 * nc] = -1.0;
+    let mut cones = vec![SupportedConeT::ZeroConeT(6), SupportedConeT::NonnegativeConeT(nonneg)];
+    cones.extend((0..nc).map(|_| SupportedConeT::SecondOrderConeT(3)));
+    let x = solve_conic("static hold socp", rows, cols, &q, &b, &cones)?;
+    Ok((x[3 * nc].clamp(0.0, cap), x))
+}
+
+/// Minimises `qᵀx` subject to `A x + s = b`, `s ∈ cones`, for `A` given by its columns (row,
+/// value pairs, any order) with `rows` rows; returns `x`.
+pub(super) fn solve_conic(
+    problem: &'static str,
+    rows: usize,
+    mut cols: Vec<Vec<(usize, f64)>>,
+    q: &[f64],
+    b: &[f64],
+    cones: &[SupportedConeT<f64>],
+) -> Result<Vec<f64>> {
+    let nx = cols.len();
     let (mut colptr, mut rowval, mut nzval) = (Vec::with_capacity(nx + 1), Vec::new(), Vec::new());
     for col in &mut cols {
         col.sort_by_key(|&(r, _)| r);
@@ -296,19 +315,12 @@ fn solve(
     colptr.push(rowval.len());
     let a = CscMatrix::new(rows, nx, colptr, rowval, nzval);
     let p = CscMatrix::zeros((nx, nx));
-    let mut q = vec![0.0; nx];
-    q[3 * nc] = -1.0;
-    let mut cones = vec![SupportedConeT::ZeroConeT(6), SupportedConeT::NonnegativeConeT(nonneg)];
-    cones.extend((0..nc).map(|_| SupportedConeT::SecondOrderConeT(3)));
     let settings = DefaultSettings { verbose: false, max_iter: 200, ..DefaultSettings::default() };
-    let mut solver = DefaultSolver::new(&p, &q, &a, &b, &cones, settings)
-        .map_err(|e| GraspError::Solver { problem: "static hold socp", status: format!("{e:?}") })?;
+    let mut solver = DefaultSolver::new(&p, q, &a, b, cones, settings)
+        .map_err(|e| GraspError::Solver { problem, status: format!("{e:?}") })?;
     solver.solve();
     match solver.solution.status {
-        SolverStatus::Solved | SolverStatus::AlmostSolved => {
-            let x = solver.solution.x.clone();
-            Ok((x[3 * nc].clamp(0.0, cap), x))
-        }
-        status => Err(GraspError::Solver { problem: "static hold socp", status: format!("{status:?}") }),
+        SolverStatus::Solved | SolverStatus::AlmostSolved => Ok(solver.solution.x.clone()),
+        status => Err(GraspError::Solver { problem, status: format!("{status:?}") }),
     }
 }

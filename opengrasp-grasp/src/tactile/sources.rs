@@ -22,7 +22,7 @@ use opengrasp_core::hand::Hand;
 use opengrasp_core::kinematics::forward_kinematics;
 use opengrasp_core::model::LinkId;
 use opengrasp_core::object::ObjectModel;
-use opengrasp_core::physics::{ContactBody, PhysicsContact, PhysicsEngine, PhysicsOptions};
+use opengrasp_core::physics::{ContactBody, JointTarget, PhysicsContact, PhysicsEngine, PhysicsOptions};
 use opengrasp_core::scene::{RobotId, Scene};
 
 use super::{LinkContact, TactileArray, TactileFrame};
@@ -168,6 +168,11 @@ pub struct TactileSeriesOptions {
     pub squeeze: f64,
     /// Gravity in the object frame (m/s²). Default: zero (the fingers squeeze a floating object).
     pub gravity: Vector3<f64>,
+    /// `Some(f)`: the closing joints are stall-torque actuators instead
+    /// ([`JointTarget::Effort`]), each actuator pressing in its closing direction with `f` times
+    /// its effort limit (coupled joints share it), and `squeeze` is not used. `None`: position
+    /// control `squeeze` past the closed configuration. Default: `None`.
+    pub effort: Option<f64>,
     /// Record a frame every this many steps of `physics.timestep` (≥ 1). Default: 6 (40 Hz at
     /// the default 240 Hz step).
     pub every: usize,
@@ -182,6 +187,7 @@ impl Default for TactileSeriesOptions {
             duration: 0.3,
             squeeze: 0.05,
             gravity: Vector3::zeros(),
+            effort: None,
             every: 6,
             physics: PhysicsOptions { contact_frequency: 30.0, ..PhysicsOptions::default() },
         }
@@ -189,12 +195,14 @@ impl Default for TactileSeriesOptions {
 }
 
 /// The simulation of [`physics_tactile_series`] before its first step: the hand fixed at the
-/// evaluated pose with its closing joints commanded `squeeze` beyond the closed configuration,
-/// the object free (its friction replacing the links'), gravity `options.gravity`. Returns the
-/// engine and the hand's robot id.
+/// evaluated pose with its closing joints commanded `squeeze` beyond the closed configuration
+/// (or pushing with `options.effort` times their effort limits), the object free (its friction
+/// replacing the links'), gravity `options.gravity`. Returns the engine and the hand's robot id.
 ///
 /// # Errors
-/// [`GraspError::Core`] from the simulator.
+/// [`GraspError::InvalidParameter`] for a negative or non-finite effort fraction, or a closing
+/// joint without a finite positive effort limit under effort control; [`GraspError::Core`]
+/// from the simulator.
 pub fn squeeze_engine<E: PhysicsEngine>(
     hand: &Hand,
     object: &ObjectModel,
@@ -220,7 +228,43 @@ pub fn squeeze_engine<E: PhysicsEngine>(
         PhysicsOptions { gravity: options.gravity, link_friction: object.friction, ..options.physics.clone() };
     let mut engine = E::from_scene(&scene, &physics)?;
     engine.set_joint_position_targets(rid, &target)?;
+    if let Some(fraction) = options.effort {
+        for (d, target) in closing_efforts(hand, fraction)? {
+            engine.set_joint_target(rid, d, target)?;
+        }
+    }
     Ok((engine, rid))
+}
+
+/// Effort targets of the closing dofs: `fraction` of each one's effort limit in its closing
+/// direction.
+fn closing_efforts(hand: &Hand, fraction: f64) -> Result<Vec<(usize, JointTarget)>> {
+    if !(fraction.is_finite() && fraction >= 0.0) {
+        return Err(GraspError::InvalidParameter {
+            name: "effort",
+            reason: format!("must be finite and >= 0, got {fraction}"),
+        });
+    }
+    let robot = hand.robot();
+    let mut out = Vec::new();
+    for (d, &v) in hand.closing_velocity().iter().enumerate() {
+        if v == 0.0 {
+            continue;
+        }
+        let joint = robot.joint(robot.dof_joint(d));
+        match joint.limits {
+            Some(l) if l.effort.is_finite() && l.effort > 0.0 => {
+                out.push((d, JointTarget::Effort(fraction * l.effort * v.signum())));
+            }
+            _ => {
+                return Err(GraspError::InvalidParameter {
+                    name: "effort",
+                    reason: format!("closing joint `{}` has no finite positive effort limit", joint.name),
+                })
+            }
+        }
+    }
+    Ok(out)
 }
 
 /// Squeezes an evaluated grasp in simulation on backend `E` (the hand fixed at its pose, the

@@ -10,7 +10,7 @@ use nalgebra::{Isometry3, Point3, Vector2, Vector3};
 use rapier3d_f64::parry::mass_properties::MassProperties;
 use rapier3d_f64::prelude::{
     BroadPhaseBvh, CCDSolver, ColliderHandle, ColliderSet, ImpulseJointHandle, ImpulseJointSet, IntegrationParameters,
-    IslandManager, MultibodyJointHandle, MultibodyJointSet, NarrowPhase, PhysicsPipeline, RigidBodyBuilder,
+    IslandManager, JointAxis, MultibodyJointHandle, MultibodyJointSet, NarrowPhase, PhysicsPipeline, RigidBodyBuilder,
     RigidBodyHandle, RigidBodySet, RigidBodyType,
 };
 
@@ -37,7 +37,9 @@ use colliders::{decode, ContactFilter};
 /// - Each actuated joint has a motor (stiffness/damping from [`PhysicsOptions`], force limit from
 ///   the joint's effort limit) tracking a reference that moves towards the position target at the
 ///   joint's velocity limit, with the reference velocity as feed-forward; joint limits are
-///   enforced. Mimic joints track `multiplier * leader reference + offset` with their own motor.
+///   enforced. Under a [`JointTarget::Effort`] target the motor is switched off and the torque
+///   is applied explicitly each substep (equal and opposite torques on the joint's two bodies,
+///   or forces for a prismatic joint): a stall-torque actuator, whatever the position. Mimic joints track `multiplier * leader reference + offset` with their own motor.
 ///   With [`PhysicsOptions::coupled_actuators`] a coupled chain is one actuator: the leader's
 ///   effort limit `τ` is shared so that joint `i` with multiplier `m_i` may exert
 ///   `τ |m_i| / Σ m_k²`, hence `Σ m_i τ_i = τ` (virtual work).
@@ -105,6 +107,9 @@ struct RobotEntry {
     /// Measured joint positions (unwrapped) and velocities, per dof.
     q: Vec<f64>,
     qd: Vec<f64>,
+    /// Effort targets put forces on the link bodies during the last substep (cleared before
+    /// the next).
+    pushing: bool,
 }
 
 #[derive(Clone, Copy)]
@@ -114,6 +119,9 @@ struct JointEntry {
     /// Joint frames in the parent and child bodies (x = joint axis).
     frame1: Isometry3<f64>,
     frame2: Isometry3<f64>,
+    /// Parent and child rigid bodies.
+    parent: RigidBodyHandle,
+    child: RigidBodyHandle,
 }
 
 #[derive(Clone, Copy)]
@@ -271,10 +279,26 @@ impl PhysicsEngine for RapierBackend {
         }
         check_target(target)?;
         let r = &mut self.robots[robot.0];
-        if matches!(target, JointTarget::Position(_)) && matches!(r.dofs[dof].target, JointTarget::Velocity(_)) {
+        if matches!(target, JointTarget::Position(_)) && !matches!(r.dofs[dof].target, JointTarget::Position(_)) {
             r.dofs[dof].reference = r.q[dof];
         }
         r.dofs[dof].target = target;
+        Ok(())
+    }
+
+    fn set_joint_force_limit(&mut self, robot: RobotId, joint: crate::model::JointId, limit: f64) -> Result<()> {
+        let r = self.robot(robot)?;
+        let bad = CoreError::InvalidHandle { kind: "joint", index: joint.0 };
+        let Some(Some(e)) = r.joints.get(joint.0).copied() else { return Err(bad) };
+        if r.robot.driving_dof(joint).is_none() {
+            return Err(bad);
+        }
+        super::check_force_limit(limit)?;
+        let axis = if e.prismatic { JointAxis::LinX } else { JointAxis::AngX };
+        let Some((mb, link_id)) = self.multibody_joints.get_mut(e.handle) else { return Err(bad) };
+        if let Some(link) = mb.link_mut(link_id) {
+            link.joint.data.set_motor_max_force(axis, limit);
+        }
         Ok(())
     }
 

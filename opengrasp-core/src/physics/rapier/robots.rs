@@ -155,7 +155,8 @@ impl RapierBackend {
                 self.multibody_joints.insert(parent_body, child_body, builder.build(), true).ok_or_else(|| {
                     CoreError::Physics { reason: format!("rapier rejected multibody joint `{}`", joint.name) }
                 })?;
-            joints[j.0] = Some(JointEntry { handle, prismatic, frame1, frame2 });
+            joints[j.0] =
+                Some(JointEntry { handle, prismatic, frame1, frame2, parent: parent_body, child: child_body });
         }
 
         // Move the multibody to the scene configuration.
@@ -196,7 +197,15 @@ impl RapierBackend {
             })
             .collect();
         let n = robot.dof();
-        self.robots.push(RobotEntry { robot, link_body, joints, dofs, q: sr.q.clone(), qd: vec![0.0; n] });
+        self.robots.push(RobotEntry {
+            robot,
+            link_body,
+            joints,
+            dofs,
+            q: sr.q.clone(),
+            qd: vec![0.0; n],
+            pushing: false,
+        });
         Ok(())
     }
 
@@ -221,15 +230,27 @@ impl RapierBackend {
         Ok(())
     }
 
-    /// Updates motor targets from the references for one substep of length `h`.
+    /// Updates motor targets from the references for one substep of length `h`, and applies
+    /// the torques of effort targets.
     pub(super) fn drive_motors(&mut self, h: f64) {
         let (k, c) = (self.options.joint_stiffness, self.options.joint_damping);
+        let coupled = self.options.coupled_actuators;
         for r in &mut self.robots {
+            if r.pushing {
+                for &(body, _) in &r.link_body {
+                    if let Some(b) = self.bodies.get_mut(body) {
+                        b.reset_forces(false);
+                        b.reset_torques(false);
+                    }
+                }
+                r.pushing = false;
+            }
             for (i, d) in r.dofs.iter_mut().enumerate() {
                 let limits = r.robot.dof_limits(i);
                 let next = match d.target {
                     JointTarget::Position(_) => advance_reference(d.reference, d.target, d.vmax, limits, h),
                     JointTarget::Velocity(_) => advance_reference(r.q[i], d.target, d.vmax, limits, h),
+                    JointTarget::Effort(_) => r.q[i],
                 };
                 let base = if matches!(d.target, JointTarget::Position(_)) { d.reference } else { r.q[i] };
                 d.reference_velocity = (next - base) / h;
@@ -241,13 +262,26 @@ impl RapierBackend {
                 let j = JointId(ji);
                 let Some((dof, factor)) = r.robot.driving_dof(j) else { continue };
                 let d = r.dofs[dof];
+                let axis = if e.prismatic { JointAxis::LinX } else { JointAxis::AngX };
+                let Some((mb, link_id)) = self.multibody_joints.get_mut(e.handle) else { continue };
+                if let JointTarget::Effort(effort) = d.target {
+                    let speed = mb.link(link_id).map_or(0.0, |l| mb.joint_velocity(l).get(0).copied().unwrap_or(0.0));
+                    let Some(link) = mb.link_mut(link_id) else { continue };
+                    link.joint.data.motor_axes.remove(axis.into());
+                    let torque = joint_effort(&r.robot, j, effort, coupled);
+                    let vmax = d.vmax * factor.abs();
+                    // Full torque up to the velocity limit, none beyond twice it.
+                    let taper = if vmax > 0.0 { (2.0 - speed * torque.signum() / vmax).clamp(0.0, 1.0) } else { 1.0 };
+                    apply_joint_effort(&mut self.bodies, e, torque * taper);
+                    r.pushing = true;
+                    continue;
+                }
                 let pos = r.robot.joint_position(&refs, j);
                 let vel = factor * d.reference_velocity;
                 // A dof under velocity control has no position spring; mimic joints always do.
                 let velocity_mode = matches!(d.target, JointTarget::Velocity(_)) && r.robot.joint(j).dof.is_some();
                 let stiffness = if velocity_mode { 0.0 } else { k };
-                let axis = if e.prismatic { JointAxis::LinX } else { JointAxis::AngX };
-                if let Some(link) = self.multibody_joints.get_mut(e.handle).and_then(|(mb, l)| mb.link_mut(l)) {
+                if let Some(link) = mb.link_mut(link_id) {
                     link.joint.data.set_motor(axis, pos, vel, stiffness, c);
                 }
             }
@@ -318,6 +352,57 @@ pub(super) fn motor_effort(robot: &Robot, j: JointId, coupled: bool) -> Option<f
         .map(|(_, m)| m * m)
         .sum();
     (sum_sq > 0.0).then(|| effort * factor.abs() / sum_sq)
+}
+
+/// The torque (N·m, or force in N) joint `j` exerts when its actuator is commanded `effort`:
+/// the command clamped to the actuator's effort limit, then shared as [`JointTarget::Effort`]
+/// describes (virtual work with `coupled`, else the full command within the joint's own limit).
+pub(super) fn joint_effort(robot: &Robot, j: JointId, effort: f64, coupled: bool) -> f64 {
+    let Some((dof, factor)) = robot.driving_dof(j) else { return 0.0 };
+    let limit = |joint: JointId| match robot.joint(joint).limits {
+        Some(l) if l.effort.is_finite() && l.effort > 0.0 => l.effort,
+        _ => f64::INFINITY,
+    };
+    let leader = limit(robot.dof_joint(dof));
+    let command = effort.clamp(-leader, leader);
+    if !coupled {
+        let own = limit(j);
+        return (command * factor.signum()).clamp(-own, own);
+    }
+    let sum_sq: f64 = (0..robot.joints().len())
+        .filter_map(|i| robot.driving_dof(JointId(i)))
+        .filter(|&(d, _)| d == dof)
+        .map(|(_, m)| m * m)
+        .sum();
+    if sum_sq > 0.0 {
+        command * factor / sum_sq
+    } else {
+        0.0
+    }
+}
+
+/// Applies a joint torque (revolute: equal and opposite torques about the world joint axis on the
+/// child and parent bodies) or force (prismatic: equal and opposite forces along the axis at the
+/// child's centre of mass). Fixed bodies ignore theirs.
+fn apply_joint_effort(bodies: &mut rapier3d_f64::prelude::RigidBodySet, e: &JointEntry, effort: f64) {
+    let Some(child) = bodies.get(e.child) else { return };
+    let axis = (child.position() * e.frame2).rotation * Vector3::x();
+    let point = *child.center_of_mass();
+    if e.prismatic {
+        if let Some(b) = bodies.get_mut(e.child) {
+            b.add_force(axis * effort, false);
+        }
+        if let Some(b) = bodies.get_mut(e.parent) {
+            b.add_force_at_point(-axis * effort, point, false);
+        }
+    } else {
+        if let Some(b) = bodies.get_mut(e.child) {
+            b.add_torque(axis * effort, false);
+        }
+        if let Some(b) = bodies.get_mut(e.parent) {
+            b.add_torque(-axis * effort, false);
+        }
+    }
 }
 
 #[cfg(test)]

@@ -1,0 +1,242 @@
+//! Balanced grip torques: joint torques that squeeze the object without pushing it anywhere.
+//!
+//! For a closed grasp, [`grip_torques`] solves the second-order cone program
+//!
+//! ```text
+//! maximise   t + ε Σ_c f_c·n_c / n
+//! subject to Σ_c f_c = 0,   Σ_c (p_c − c) × f_c = 0               (zero net wrench)
+//!            ‖f_c − (f_c·n_c) n_c‖ ≤ μ_g (f_c·n_c)                 (friction cones, μ_g = margin·μ)
+//!            t ≤ f_c·n_c ≤ cap                                       (grip on every finger contact)
+//!            0 ≤ f_c·n_c ≤ cap on contacts no motorised joint moves (the palm's)
+//!            |τ_i| ≤ fraction · share_i,  τ_i = Σ_c J_{c,i}ᵀ f_c    (every motorised joint)
+//!            τ_i · closing_i ≥ 0                                     (closing joints press closed)
+//! ```
+//!
+//! per **joint** `i` (not per actuator): the simulator drives coupled joints with separate
+//! motors, so each joint must balance its own contacts. `share_i` is the joint's part of its
+//! actuator's effort limit (with coupling, `limit |m_i| / Σ m_k²`, as
+//! [`opengrasp_core::physics::PhysicsOptions::coupled_actuators`]), `J_{c,i}` the velocity of
+//! contact `c` per unit motion of joint `i` alone. The physics check commands these torques as
+//! stall torques (position targets beyond contact with motor force caps `|τ_i|`), so the fingers
+//! press with an internal force that is an equilibrium of the object.
+
+use nalgebra::{Isometry3, Matrix3, Vector3};
+use opengrasp_core::hand::Hand;
+use opengrasp_core::kinematics::forward_kinematics;
+use opengrasp_core::model::{JointId, JointKind, LinkId, Robot};
+use opengrasp_core::object::ObjectModel;
+use serde::{Deserialize, Serialize};
+
+use clarabel::solver::SupportedConeT;
+
+use super::{EvaluationStatus, GraspEvaluation};
+use crate::error::{GraspError, Result};
+
+/// Weight of the mean normal force in the objective (breaks ties when one contact cannot be
+/// loaded and the minimum normal force is zero).
+const EPSILON: f64 = 0.01;
+/// Cap on any contact's normal force (N): palm contacts have no actuator limit.
+const CAP: f64 = 1000.0;
+
+/// Torque of one motorised joint in a [`GripTorques`] solution.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct JointTorque {
+    /// Joint index in the hand's robot.
+    pub joint: usize,
+    /// Configuration dof (actuator) driving it.
+    pub dof: usize,
+    /// Torque (N·m, or N) the joint applies, positive along its axis.
+    pub torque: f64,
+    /// Its cap: `fraction` times its share of the actuator's effort limit.
+    pub limit: f64,
+}
+
+/// Balanced grip of a closed grasp ([`grip_torques`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GripTorques {
+    /// Force (N, object frame) each contact applies to the object, in the evaluation's order.
+    pub contact_forces: Vec<Vector3<f64>>,
+    /// Every motorised joint's torque (zero for joints without contacts beyond them).
+    pub joints: Vec<JointTorque>,
+    /// Smallest normal force (N) over the finger contacts (palm contacts are not counted).
+    pub min_normal: f64,
+}
+
+/// Per-joint effort caps: the joint's share of its actuator's limit (see the module docs).
+fn joint_share(robot: &Robot, j: JointId, coupled: bool) -> Option<(usize, f64, f64)> {
+    let (dof, factor) = robot.driving_dof(j)?;
+    let own = robot.joint(j).limits.map(|l| l.effort);
+    let leader = robot.joint(robot.dof_joint(dof)).limits.map(|l| l.effort)?;
+    if !(leader.is_finite() && leader > 0.0) || robot.joint(j).kind == JointKind::Fixed {
+        return None;
+    }
+    let share = if coupled {
+        let sum_sq: f64 = (0..robot.joints().len())
+            .filter_map(|i| robot.driving_dof(JointId(i)))
+            .filter(|&(d, _)| d == dof)
+            .map(|(_, m)| m * m)
+            .sum();
+        leader * factor.abs() / sum_sq
+    } else {
+        own.filter(|e| e.is_finite() && *e > 0.0).unwrap_or(leader)
+    };
+    Some((dof, factor, share))
+}
+
+/// Solves the balanced grip of `evaluation` (see the module docs): friction `margin × μ` (μ the
+/// object's), joint torques within `fraction` of their shares, coupled shares if `coupled`.
+///
+/// # Errors
+/// [`GraspError::InvalidParameter`] for an evaluation that did not close, a contact on a link the
+/// hand does not have, or a `fraction` / `margin` that is not finite and positive (margin ≤ 1);
+/// [`GraspError::Core`] from kinematics; [`GraspError::Solver`] if the conic solver fails.
+pub fn grip_torques(
+    hand: &Hand,
+    object: &ObjectModel,
+    evaluation: &GraspEvaluation,
+    fraction: f64,
+    margin: f64,
+    coupled: bool,
+) -> Result<GripTorques> {
+    if evaluation.status != EvaluationStatus::Closed {
+        return Err(GraspError::InvalidParameter { name: "evaluation", reason: "the hand did not close".into() });
+    }
+    crate::planners::check_positive("fraction", fraction)?;
+    if !(margin.is_finite() && margin > 0.0 && margin <= 1.0) {
+        return Err(GraspError::InvalidParameter {
+            name: "margin",
+            reason: format!("must be in (0, 1], got {margin}"),
+        });
+    }
+    let robot = hand.robot();
+    let q = &evaluation.q;
+    let fk = forward_kinematics(robot, q)?;
+    let poses = fk.as_slice();
+    let root_from_object: Isometry3<f64> = poses[hand.palm().0] * hand.palm_frame() * evaluation.hand_pose.inverse();
+    let closing = hand.closing_velocity();
+    let joints: Vec<(JointId, usize, f64, f64)> = (0..robot.joints().len())
+        .filter_map(|i| joint_share(robot, JointId(i), coupled).map(|(d, m, s)| (JointId(i), d, m, s * fraction)))
+        .collect();
+    let nc = evaluation.contacts.len();
+    // torque[c][i][k]: torque on joint i per newton of contact c's local component k.
+    let mut frames = Vec::with_capacity(nc);
+    let mut levers = Vec::with_capacity(nc);
+    let mut torque = vec![vec![[0.0; 3]; joints.len()]; nc];
+    let com = object.center_of_mass();
+    for (c, gc) in evaluation.contacts.iter().enumerate() {
+        if gc.link >= robot.links().len() {
+            return Err(GraspError::InvalidParameter {
+                name: "evaluation",
+                reason: format!("contact on link {} of a hand with {}", gc.link, robot.links().len()),
+            });
+        }
+        let (t1, t2) = gc.contact.tangents();
+        let frame = Matrix3::from_columns(&[gc.contact.normal.into_inner(), t1, t2]);
+        let root_frame = root_from_object.rotation.to_rotation_matrix().into_inner() * frame;
+        let p = root_from_object * gc.contact.point;
+        let mut l = LinkId(gc.link);
+        while let Some(jid) = robot.parent_joint(l) {
+            let joint = robot.joint(jid);
+            if let Some(i) = joints.iter().position(|x| x.0 == jid) {
+                let child = poses[l.0];
+                let axis = child.rotation * joint.axis.into_inner();
+                let v = match joint.kind {
+                    JointKind::Prismatic => axis,
+                    _ => axis.cross(&(p - child.translation.vector).coords),
+                };
+                torque[c][i] = [0, 1, 2].map(|k| v.dot(&root_frame.column(k)));
+            }
+            l = joint.parent;
+        }
+        frames.push(frame);
+        levers.push(gc.contact.point - com);
+    }
+    let radius = (object.size().norm() / 2.0).max(1e-3);
+    let mu = object.friction * margin;
+    let x = solve(&frames, &levers, &torque, &joints, closing, mu, radius)?;
+    let contact_forces =
+        frames.iter().enumerate().map(|(c, f)| f * Vector3::new(x[3 * c], x[3 * c + 1], x[3 * c + 2])).collect();
+    let joints = joints
+        .iter()
+        .enumerate()
+        .map(|(i, &(j, dof, _, limit))| JointTorque {
+            joint: j.0,
+            dof,
+            torque: (0..nc).map(|c| (0..3).map(|k| torque[c][i][k] * x[3 * c + k]).sum::<f64>()).sum(),
+            limit,
+        })
+        .collect();
+    let driven = |c: usize| torque[c].iter().any(|t| t.iter().any(|&v| v != 0.0));
+    let min_normal = (0..nc).filter(|&c| driven(c)).map(|c| x[3 * c]).fold(f64::INFINITY, f64::min);
+    Ok(GripTorques { contact_forces, joints, min_normal: if min_normal.is_finite() { min_normal } else { 0.0 } })
+}
+
+/// The program of the module docs; returns the local force components (3 per contact) and `t`.
+fn solve(
+    frames: &[Matrix3<f64>],
+    levers: &[Vector3<f64>],
+    torque: &[Vec<[f64; 3]>],
+    joints: &[(JointId, usize, f64, f64)],
+    closing: &[f64],
+    mu: f64,
+    radius: f64,
+) -> Result<Vec<f64>> {
+    let nc = frames.len();
+    let nj = joints.len();
+    let nx = 3 * nc + 1;
+    // Rows: 6 equilibrium (zero cone); nonnegative: 2 per joint (limits), 1 per joint (sign),
+    // 2 per contact (t ≤ fₙ ≤ cap), 1 (t ≥ 0); then a 3-row cone per contact.
+    let nonneg = 3 * nj + 2 * nc + 1;
+    let rows = 6 + nonneg + 3 * nc;
+    let mut cols: Vec<Vec<(usize, f64)>> = vec![Vec::new(); nx];
+    let mut b = vec![0.0; rows];
+    // +1 / −1: the joint must press in its closing direction; 0: spread joints (either way).
+    let sign: Vec<f64> = joints
+        .iter()
+        .map(|&(_, dof, m, _)| match closing.get(dof) {
+            Some(&v) if v != 0.0 => v.signum() * m.signum(),
+            _ => 0.0,
+        })
+        .collect();
+    for c in 0..nc {
+        for k in 0..3 {
+            let col = &mut cols[3 * c + k];
+            let f = frames[c].column(k).into_owned();
+            let m = levers[c].cross(&f) / radius;
+            for r in 0..3 {
+                col.push((r, f[r]));
+                col.push((3 + r, m[r]));
+            }
+            for i in 0..nj {
+                let t = torque[c][i][k];
+                col.push((6 + 3 * i, t));
+                col.push((6 + 3 * i + 1, -t));
+                col.push((6 + 3 * i + 2, -sign[i] * t));
+            }
+            col.push((6 + nonneg + 3 * c + k, if k == 0 { -mu } else { -1.0 }));
+        }
+        // Contacts no motorised joint moves (the palm's) need not squeeze: they balance the
+        // fingers (a wrap pulls the object into the palm).
+        let driven = torque[c].iter().any(|t| t.iter().any(|&v| v != 0.0));
+        let base = 6 + 3 * nj + 2 * c;
+        if driven {
+            cols[3 * c].push((base, -1.0));
+            cols[3 * nc].push((base, 1.0));
+        }
+        cols[3 * c].push((base + 1, 1.0));
+        b[base + 1] = CAP;
+    }
+    cols[3 * nc].push((6 + 3 * nj + 2 * nc, -1.0));
+    for (i, j) in joints.iter().enumerate() {
+        b[6 + 3 * i] = j.3;
+        b[6 + 3 * i + 1] = j.3;
+    }
+    let mut q = vec![0.0; nx];
+    for c in 0..nc {
+        q[3 * c] = -EPSILON / nc as f64;
+    }
+    q[3 * nc] = -1.0;
+    let mut cones = vec![SupportedConeT::ZeroConeT(6), SupportedConeT::NonnegativeConeT(nonneg)];
+    cones.extend((0..nc).map(|_| SupportedConeT::SecondOrderConeT(3)));
+    super::static_hold::solve_conic("grip torques socp", rows, cols, &q, &b, &cones)
+}

@@ -1,0 +1,109 @@
+//! Tests of the balanced grip torques (`grip_torques`) and the physics check's balanced mode.
+
+use nalgebra::{Isometry3, Point3, Unit, Vector3};
+use opengrasp_assets::hands;
+use opengrasp_core::kinematics::{forward_kinematics, jacobian};
+use opengrasp_core::model::{JointId, LinkId};
+use opengrasp_grasp::evaluator::{
+    grip_torques, physics_check, EvaluatorOptions, GraspEvaluation, GraspEvaluator, HoldResult, PhysicsCheckOptions,
+};
+use opengrasp_grasp::planners::{palm_pose, GraspCandidate, Preshape};
+use opengrasp_grasp::GraspError;
+
+/// The Barrett wrap of the salt can of the evaluator tests: palm on the can's side at mid-height.
+fn barrett_salt_can_wrap() -> (opengrasp_core::hand::Hand, opengrasp_assets::objects::ObjectModel, GraspEvaluation) {
+    let hand = hands::barrett();
+    let object = opengrasp_assets::objects::by_name("salt_can").unwrap();
+    let mut ev = GraspEvaluator::new(&hand, &object, EvaluatorOptions::default()).unwrap();
+    let info = ev.hand_info().clone();
+    let approach = Unit::new_normalize(-Vector3::x());
+    let mut hand_pose = palm_pose(&info, &Point3::origin(), &approach, &Vector3::y());
+    hand_pose.translation.vector.z = 0.07;
+    let e = ev.evaluate(&GraspCandidate { hand_pose, preshape: Preshape::Default, approach, standoff: 0.0 }).unwrap();
+    assert!(e.palm_contact && e.force_closure(), "{:?}", e.quality);
+    (hand, object, e)
+}
+
+#[test]
+fn grip_torques_are_a_static_equilibrium_of_the_barrett_salt_can_wrap() {
+    let (hand, object, e) = barrett_salt_can_wrap();
+    let (margin, fraction) = (0.5, 1.0);
+    let grip = grip_torques(&hand, &object, &e, fraction, margin, true).unwrap();
+    assert_eq!(grip.contact_forces.len(), e.contacts.len());
+    // Every finger contact squeezes; the three fingers press with tens of newtons.
+    assert!(grip.min_normal > 1.0, "{grip:?}");
+    // Zero net force and moment on the object (object frame, about its centre of mass).
+    let com = object.center_of_mass();
+    let scale = grip.contact_forces.iter().map(|f| f.norm()).sum::<f64>();
+    let net: Vector3<f64> = grip.contact_forces.iter().sum();
+    let moment: Vector3<f64> =
+        e.contacts.iter().zip(&grip.contact_forces).map(|(c, f)| (c.contact.point - com).cross(f)).sum();
+    assert!(net.norm() < 1e-6 * scale, "net force {net:?} of {scale} N");
+    assert!(moment.norm() < 1e-6 * scale, "net moment {moment:?}");
+    // Inside the friction cones shrunk by the margin.
+    let mu = object.friction * margin;
+    for (c, f) in e.contacts.iter().zip(&grip.contact_forces) {
+        let n = f.dot(&c.contact.normal);
+        let t = (f - c.contact.normal.into_inner() * n).norm();
+        assert!(n >= -1e-6 && t <= mu * n + 1e-6 * scale, "normal {n}, tangential {t}");
+    }
+    // Joint torques within their caps, and per actuator equal to Jᵀ f of the core Jacobian
+    // (coupled joints summed by their mimic multipliers, by virtual work).
+    let robot = hand.robot();
+    for j in &grip.joints {
+        assert!(j.torque.abs() <= j.limit * (1.0 + 1e-6), "{j:?}");
+    }
+    let fk = forward_kinematics(robot, &e.q).unwrap();
+    let root_from_object: Isometry3<f64> = fk.as_slice()[hand.palm().0] * hand.palm_frame() * e.hand_pose.inverse();
+    let dofs: Vec<usize> = (0..robot.dof()).collect();
+    let mut jtf = vec![0.0; robot.dof()];
+    for (c, f) in e.contacts.iter().zip(&grip.contact_forces) {
+        let p = fk.as_slice()[c.link].inverse_transform_point(&(root_from_object * c.contact.point));
+        let jac = jacobian(robot, &e.q, LinkId(c.link), &p, &dofs).unwrap();
+        let f_root = root_from_object.rotation * f;
+        for (d, v) in jtf.iter_mut().enumerate() {
+            *v += jac.fixed_view::<3, 1>(0, d).dot(&f_root);
+        }
+    }
+    let mut pressed = 0;
+    for (d, &expected) in jtf.iter().enumerate() {
+        let sum: f64 = grip
+            .joints
+            .iter()
+            .filter(|j| j.dof == d)
+            .map(|j| robot.driving_dof(JointId(j.joint)).unwrap().1 * j.torque)
+            .sum();
+        assert!((sum - expected).abs() < 1e-6 * (1.0 + expected.abs()), "dof {d}: {sum} vs Jᵀf {expected}");
+        pressed += usize::from(expected.abs() > 0.1);
+    }
+    assert!(pressed >= 3, "{jtf:?}");
+    // Deterministic, and bad parameters are typed errors.
+    assert_eq!(grip_torques(&hand, &object, &e, fraction, margin, true).unwrap(), grip);
+    for (f, m) in [(f64::NAN, 0.5), (-1.0, 0.5), (1.0, 0.0), (1.0, 1.5), (1.0, f64::NAN)] {
+        assert!(matches!(grip_torques(&hand, &object, &e, f, m, true), Err(GraspError::InvalidParameter { .. })));
+    }
+}
+
+#[test]
+fn balanced_grip_holds_the_barrett_salt_can_wrap_in_all_six_directions() {
+    let (hand, object, e) = barrett_salt_can_wrap();
+    let defaults = PhysicsCheckOptions::default();
+    let options = PhysicsCheckOptions {
+        balanced: Some(1.0),
+        physics: opengrasp_core::physics::PhysicsOptions { contact_frequency: 1000.0, ..defaults.physics.clone() },
+        ..defaults
+    };
+    // Balanced stall torques (1 kHz contacts): held in every direction, gravity moving the
+    // can by at most 2.4 mm (measured 0.3–2.4 mm) relative to the gravity-free control run.
+    let out = physics_check(&hand, &object, &e, &options).unwrap();
+    assert_eq!(out.results, vec![HoldResult::Held; 6], "{out:?}");
+    assert!(out.translations.iter().all(|&t| t < 0.004), "{out:?}");
+    // Deterministic to the last bit.
+    assert_eq!(physics_check(&hand, &object, &e, &options).unwrap(), out);
+    // Without friction nothing squeezes the can along its axis: the grip's contact forces are
+    // all normal, and gravity along the axis pulls it out.
+    let slippery = opengrasp_assets::objects::ObjectModel { friction: 0.0, ..object.clone() };
+    let axial = PhysicsCheckOptions { directions: vec![-Vector3::z()], ..options.clone() };
+    let dropped = physics_check(&hand, &slippery, &e, &axial).unwrap();
+    assert!(dropped.translations[0] > 0.05, "{dropped:?}");
+}
