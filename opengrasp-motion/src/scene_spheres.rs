@@ -39,7 +39,7 @@ use opengrasp_core::model::{Geometry, JointGroup, JointId, LinkId, Robot, Shape}
 use opengrasp_core::scene::{RobotId, Scene};
 
 use crate::error::{MotionError, Result};
-use crate::validity::cover::{greedy_cover, GreedyCoverOptions};
+use crate::validity::cover::{greedy_cover, slice_balls, GreedyCoverOptions};
 use crate::validity::{ObstaclePrimitive, ObstacleShape, SelfCollisionPairs, SphereWorld, StateValidityChecker};
 
 /// Most spheres [`shape_cover`] makes for one shape before refusing the budget.
@@ -103,21 +103,16 @@ pub fn shape_cover(
     match geometry {
         Geometry::Sphere { radius } => out.push((origin * Point3::origin(), *radius)),
         Geometry::Capsule { radius, length } => {
-            // End balls of the capsule's radius; the cylinder between them cut into slices of
-            // height s, each within √(r² + s²/4) of its middle point.
-            let (n, s, r) = slices(*radius, *length, budget(*radius));
+            // End balls of the capsule's radius; the cylinder between them covered by slice balls.
             for z in [-0.5 * length, 0.5 * length] {
                 out.push((origin * Point3::new(0.0, 0.0, z), *radius));
             }
-            for k in 0..n {
-                out.push((origin * Point3::new(0.0, 0.0, -0.5 * length + (k as f64 + 0.5) * s), grow(r)));
-            }
+            let n = slices(*radius, *length, budget(*radius));
+            out.extend(slice_balls(origin, *radius, *length, n).map(|(c, r)| (c, grow(r))));
         }
         Geometry::Cylinder { radius, length } => {
-            let (n, s, r) = slices(*radius, *length, budget(*radius));
-            for k in 0..n {
-                out.push((origin * Point3::new(0.0, 0.0, -0.5 * length + (k as f64 + 0.5) * s), grow(r)));
-            }
+            let n = slices(*radius, *length, budget(*radius));
+            out.extend(slice_balls(origin, *radius, *length, n).map(|(c, r)| (c, grow(r))));
         }
         Geometry::Box { half_extents: h } => {
             let budget = budget(h.min());
@@ -200,13 +195,11 @@ fn box_tree(h: &Vector3<f64>, budget: f64) -> Result<Vec<(Vector3<f64>, Vector3<
     Ok(cells)
 }
 
-/// Slices of a cylinder of `radius` and `length` whose balls `√(r² + s²/4)` reach at most
-/// `budget` beyond its side: `(count, height, ball radius)`.
-fn slices(radius: f64, length: f64, budget: f64) -> (usize, f64, f64) {
+/// How many slices of a cylinder of `radius` and `length` keep their [`slice_balls`]
+/// (radius `√(r² + s²/4)`) within `budget` of its side.
+fn slices(radius: f64, length: f64, budget: f64) -> usize {
     let most = 2.0 * ((radius + budget).powi(2) - radius * radius).sqrt();
-    let n = ((length / most).ceil() as usize).max(1);
-    let s = length / n as f64;
-    (n, s, (radius * radius + 0.25 * s * s).sqrt())
+    ((length / most).ceil() as usize).max(1)
 }
 
 /// How far the spheres of [`shape_cover`] reach beyond a closed-form `geometry` at the origin

@@ -4,6 +4,8 @@
 use nalgebra::{Isometry3, Matrix3, Point3, Vector3};
 use opengrasp_core::model::{Geometry, Shape};
 
+use crate::validity::cover::slice_balls;
+
 /// Ball spacing along a capsule's axis, as a fraction of its radius: the balls reach at most
 /// `r (√(1 + 0.75²/4) − 1)` = 6.8 % of the radius beyond the capsule.
 pub(super) const CAPSULE_SPACING: f64 = 0.75;
@@ -45,18 +47,12 @@ pub(super) fn shape_prims(shape: &Shape) -> Vec<Prim> {
         Geometry::Cylinder { radius, length } => vec![Prim::Cylinder(shape.origin, *radius, 0.5 * length)],
         Geometry::Capsule { radius, length } => {
             let n = ((length / (CAPSULE_SPACING * radius)).ceil() as usize).max(1);
-            let s = length / n as f64;
-            let r = (radius * radius + 0.25 * s * s).sqrt();
             // The end caps are balls of the capsule's radius at the segment ends; the
-            // cylinder between them is cut into n slices of height s, and each slice lies
-            // within r of its middle point.
+            // cylinder between them is covered by slice balls.
             [-0.5 * length, 0.5 * length]
                 .into_iter()
                 .map(|z| Prim::Ball(shape.origin * Point3::new(0.0, 0.0, z), *radius))
-                .chain((0..n).map(|k| {
-                    let z = -0.5 * length + (k as f64 + 0.5) * s;
-                    Prim::Ball(shape.origin * Point3::new(0.0, 0.0, z), r)
-                }))
+                .chain(slice_balls(&shape.origin, *radius, *length, n).map(|(c, r)| Prim::Ball(c, r)))
                 .collect()
         }
         g => {

@@ -265,6 +265,22 @@ pub fn bounding_box_cover(mesh: &TriangleMesh) -> SphereCover {
     SphereCover { spheres }
 }
 
+/// Balls covering the side of a solid cylinder of `radius` whose axis runs along the local z
+/// axis of `origin` over `[-length/2, length/2]`: the axis cut into `n` slices of height
+/// `s = length / n`, each slice inside the ball of radius `√(r² + s²/4)` about its middle
+/// point (centres in `origin`'s parent frame). With end balls of the radius this covers a
+/// capsule; alone, a cylinder.
+pub(crate) fn slice_balls(
+    origin: &Isometry3<f64>,
+    radius: f64,
+    length: f64,
+    n: usize,
+) -> impl Iterator<Item = (Point3<f64>, f64)> + '_ {
+    let s = length / n as f64;
+    let r = (radius * radius + 0.25 * s * s).sqrt();
+    (0..n).map(move |k| (origin * Point3::new(0.0, 0.0, -0.5 * length + (k as f64 + 0.5) * s), r))
+}
+
 /// Spheres covering a box of half extents `h` at `origin`: a grid of cells as wide as the
 /// thinnest side, each covered by the sphere through its corners.
 pub(crate) fn cover_box(h: &Vector3<f64>, origin: &Isometry3<f64>, out: &mut Vec<(Point3<f64>, f64)>) {
