@@ -191,7 +191,7 @@ impl CollisionWorld {
     }
 
     /// Minimum distance of each link (with the objects it carries) to the robot's obstacles,
-    /// indexed by [`LinkId`]; self-distance is not included. Links without collision geometry,
+    /// indexed by [`LinkId`](crate::model::LinkId); self-distance is not included. Links without collision geometry,
     /// and every link when the robot has no obstacles, get `+inf`. Overlapping links get `0`
     /// (exact distance, not a penetration depth: use [`distance`](Self::distance) for depth).
     /// Each value is a safe bound for conservative-advancement collision checking.
