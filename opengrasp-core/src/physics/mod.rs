@@ -268,6 +268,18 @@ pub trait PhysicsEngine: Send {
         Ok(())
     }
 
+    /// A copy of the whole simulation state, or `None` if the backend cannot copy it (the
+    /// default). Stepping the copy and stepping `self` with the same inputs give the same
+    /// trajectory (bitwise on the rapier and mock backends), so a common prefix of
+    /// several simulations (a grasp settling before gravity is switched on in different
+    /// directions) can be simulated once and continued from copies.
+    fn snapshot(&self) -> Option<Self>
+    where
+        Self: Sized,
+    {
+        None
+    }
+
     /// Current gravity (m/s², world frame).
     fn gravity(&self) -> Vector3<f64>;
 
