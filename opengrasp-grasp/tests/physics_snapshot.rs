@@ -107,11 +107,14 @@ fn assert_same_outcome(hand: &Hand, object: &ObjectModel, grasp: &GraspEvaluatio
 }
 
 #[test]
-fn armar3_wrap_holds_identically_from_a_snapshot() {
-    // The ARMAR-III hand's wrap of a 6 cm cylinder holds in all six directions.
-    let (hand, object) = (hands::armar3_hand(), cylinder(0.03));
-    let results = assert_same_outcome(&hand, &object, &side_grasp(&hand, &object, Vector3::y()));
-    assert_eq!(results, vec![HoldResult::Held; 6]);
+fn wraps_hold_identically_from_a_snapshot() {
+    // The ARMAR-III hand's wrap of a 6 cm cylinder and the Barrett's of a 4 cm one hold in all
+    // six directions.
+    for (hand, radius) in [(hands::armar3_hand(), 0.03), (hands::barrett(), 0.02)] {
+        let object = cylinder(radius);
+        let results = assert_same_outcome(&hand, &object, &side_grasp(&hand, &object, Vector3::y()));
+        assert_eq!(results, vec![HoldResult::Held; 6], "{}", hand.name());
+    }
 }
 
 #[test]
@@ -121,13 +124,6 @@ fn armar3_pinch_drops_identically_from_a_snapshot() {
     let (hand, object) = (hands::armar3_hand(), cylinder(0.03));
     let results = assert_same_outcome(&hand, &object, &side_grasp(&hand, &object, Vector3::z()));
     assert!(results.contains(&HoldResult::Dropped), "{results:?}");
-}
-
-#[test]
-fn barrett_wrap_holds_identically_from_a_snapshot() {
-    let (hand, object) = (hands::barrett(), cylinder(0.02));
-    let results = assert_same_outcome(&hand, &object, &side_grasp(&hand, &object, Vector3::y()));
-    assert_eq!(results, vec![HoldResult::Held; 6]);
 }
 
 #[test]
