@@ -2,7 +2,6 @@
 
 use nalgebra::{Isometry3, Vector3};
 use opengrasp_core::hand::Hand;
-use opengrasp_core::model::JointId;
 use opengrasp_core::physics::{PhysicsEngine, PhysicsOptions, RapierBackend};
 use opengrasp_core::scene::ObjectId;
 use serde::{Deserialize, Serialize};
@@ -60,7 +59,15 @@ pub struct PhysicsCheckOptions {
     /// 0/80 with the same sweep): the torques balance the evaluator's contacts, and where the
     /// simulated contacts differ (a palm contact that does not touch, fingertips that roll) the
     /// constant torques push the object out.
+    /// Setting both `balanced` and `effort` is an error ([`PhysicsCheckOptions::validate`]).
     pub balanced: Option<f64>,
+    /// `Some(θ)` (needs `balanced`): at the end of the squeeze (before the release), every
+    /// motorised joint of the balanced grip becomes a force-based spring
+    /// ([`super::grip::stiffen_grip`]) of stiffness `limitᵢ / θ` (N·m/rad; full effort share at
+    /// θ of deflection) resting `τᵢ / stiffness` past the joint's simulated position: it keeps
+    /// pressing with the balanced torque `τᵢ` there, and more or less as the object moves towards
+    /// or away from the finger (a stable equilibrium instead of a neutral one). Default: `None`.
+    pub grip_compliance: Option<f64>,
     /// Friction margin of the balanced grip: its contact forces stay inside cones of
     /// `grip_margin × μ`, leaving friction for gravity. Default: 0.5.
     pub grip_margin: f64,
@@ -109,12 +116,55 @@ impl Default for PhysicsCheckOptions {
             effort: None,
             balanced: None,
             grip_margin: 0.5,
+            grip_compliance: None,
             max_translation: 0.02,
             max_rotation: 0.35,
             drop_translation: 0.1,
             fixture: true,
             physics: PhysicsOptions { contact_frequency: 30.0, coupled_actuators: true, ..PhysicsOptions::default() },
         }
+    }
+}
+
+impl PhysicsCheckOptions {
+    /// Checks the scalar options and their combination.
+    ///
+    /// # Errors
+    /// [`GraspError::InvalidParameter`] for a non-positive gravity, duration or threshold, a
+    /// negative settle time or squeeze, `effort` and `balanced` set together (only one actuator
+    /// model can drive the fingers), or a `grip_compliance` that is not finite and positive or
+    /// is set without `balanced`.
+    pub fn validate(&self) -> Result<()> {
+        for (name, v) in [
+            ("gravity", self.gravity),
+            ("duration", self.duration),
+            ("max_translation", self.max_translation),
+            ("max_rotation", self.max_rotation),
+            ("drop_translation", self.drop_translation),
+        ] {
+            crate::planners::check_positive(name, v)?;
+        }
+        for (name, v) in [("settle", self.settle), ("squeeze", self.squeeze)] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(GraspError::InvalidParameter { name, reason: format!("must be finite and >= 0, got {v}") });
+            }
+        }
+        if self.effort.is_some() && self.balanced.is_some() {
+            return Err(GraspError::InvalidParameter {
+                name: "effort",
+                reason: "`effort` and `balanced` exclude each other: set one".into(),
+            });
+        }
+        if let Some(theta) = self.grip_compliance {
+            crate::planners::check_positive("grip_compliance", theta)?;
+            if self.balanced.is_none() {
+                return Err(GraspError::InvalidParameter {
+                    name: "grip_compliance",
+                    reason: "needs `balanced` (the springs' preload is the balanced grip)".into(),
+                });
+            }
+        }
+        Ok(())
     }
 }
 
@@ -203,20 +253,7 @@ pub fn physics_check_with<E: PhysicsEngine>(
     if evaluation.status != EvaluationStatus::Closed {
         return Err(GraspError::InvalidParameter { name: "evaluation", reason: "the hand did not close".into() });
     }
-    for (name, v) in [
-        ("gravity", options.gravity),
-        ("duration", options.duration),
-        ("max_translation", options.max_translation),
-        ("max_rotation", options.max_rotation),
-        ("drop_translation", options.drop_translation),
-    ] {
-        crate::planners::check_positive(name, v)?;
-    }
-    for (name, v) in [("settle", options.settle), ("squeeze", options.squeeze)] {
-        if !(v.is_finite() && v >= 0.0) {
-            return Err(GraspError::InvalidParameter { name, reason: format!("must be finite and >= 0, got {v}") });
-        }
-    }
+    options.validate()?;
     // The hand fixed at its pose, the closing joints commanded `squeeze` past the closed
     // configuration, the object (the scene's only one) free, its friction on the links.
     // Balanced grip: torques per joint, pressed through position targets `squeeze` past the
@@ -248,15 +285,15 @@ pub fn physics_check_with<E: PhysicsEngine>(
     let run = |gravity: Vector3<f64>| -> Result<Isometry3<f64>> {
         let (mut engine, rid) = squeeze_engine::<E>(hand, object, evaluation, &squeeze)?;
         if let Some(grip) = &grip {
-            let closing = hand.closing_velocity();
-            for jt in grip.joints.iter().filter(|jt| closing.get(jt.dof).is_some_and(|&v| v != 0.0)) {
-                engine.set_joint_force_limit(rid, JointId(jt.joint), jt.torque.abs())?;
-            }
+            super::grip::command_grip(&mut engine, rid, hand, grip)?;
         }
         if options.fixture {
             engine.set_object_fixed(oid, true)?;
         }
         engine.step_n(settle_steps, dt)?;
+        if let (Some(grip), Some(theta)) = (&grip, options.grip_compliance) {
+            super::grip::stiffen_grip(&mut engine, rid, hand, grip, theta)?;
+        }
         if options.fixture {
             engine.set_object_fixed(oid, false)?;
         }

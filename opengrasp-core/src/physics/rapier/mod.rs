@@ -122,6 +122,8 @@ struct JointEntry {
     /// Parent and child rigid bodies.
     parent: RigidBodyHandle,
     child: RigidBodyHandle,
+    /// A force-based spring replacing the actuator's target ([`PhysicsEngine::set_joint_spring`]).
+    spring: Option<super::JointSpring>,
 }
 
 #[derive(Clone, Copy)]
@@ -298,6 +300,26 @@ impl PhysicsEngine for RapierBackend {
         let Some((mb, link_id)) = self.multibody_joints.get_mut(e.handle) else { return Err(bad) };
         if let Some(link) = mb.link_mut(link_id) {
             link.joint.data.set_motor_max_force(axis, limit);
+        }
+        Ok(())
+    }
+
+    fn set_joint_spring(
+        &mut self,
+        robot: RobotId,
+        joint: crate::model::JointId,
+        spring: Option<super::JointSpring>,
+    ) -> Result<()> {
+        let r = self.robot(robot)?;
+        let bad = CoreError::InvalidHandle { kind: "joint", index: joint.0 };
+        if !matches!(r.joints.get(joint.0), Some(Some(_))) || r.robot.driving_dof(joint).is_none() {
+            return Err(bad);
+        }
+        if let Some(s) = spring {
+            s.validate()?;
+        }
+        if let Some(Some(e)) = self.robots[robot.0].joints.get_mut(joint.0) {
+            e.spring = spring;
         }
         Ok(())
     }

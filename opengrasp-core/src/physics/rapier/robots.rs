@@ -6,8 +6,8 @@ use std::sync::Arc;
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use rapier3d_f64::parry::mass_properties::MassProperties;
 use rapier3d_f64::prelude::{
-    ActiveHooks, ColliderBuilder, FixedJointBuilder, GenericJointBuilder, JointAxesMask, JointAxis, RigidBodyBuilder,
-    RigidBodyHandle,
+    ActiveHooks, ColliderBuilder, FixedJointBuilder, GenericJointBuilder, JointAxesMask, JointAxis, MotorModel,
+    RigidBodyBuilder, RigidBodyHandle,
 };
 
 use super::{advance_reference, velocity_limit, ContactBody, JointTarget};
@@ -156,7 +156,15 @@ impl RapierBackend {
                     CoreError::Physics { reason: format!("rapier rejected multibody joint `{}`", joint.name) }
                 })?;
             joints[j.0] =
-                Some(JointEntry { handle, prismatic, frame1, frame2, parent: parent_body, child: child_body });
+                Some(JointEntry {
+                handle,
+                prismatic,
+                frame1,
+                frame2,
+                parent: parent_body,
+                child: child_body,
+                spring: None,
+            });
         }
 
         // Move the multibody to the scene configuration.
@@ -264,6 +272,13 @@ impl RapierBackend {
                 let d = r.dofs[dof];
                 let axis = if e.prismatic { JointAxis::LinX } else { JointAxis::AngX };
                 let Some((mb, link_id)) = self.multibody_joints.get_mut(e.handle) else { continue };
+                if let Some(s) = e.spring {
+                    if let Some(link) = mb.link_mut(link_id) {
+                        link.joint.data.set_motor(axis, s.position, 0.0, s.stiffness, s.damping);
+                        link.joint.data.set_motor_model(axis, MotorModel::ForceBased);
+                    }
+                    continue;
+                }
                 if let JointTarget::Effort(effort) = d.target {
                     let speed = mb.link(link_id).map_or(0.0, |l| mb.joint_velocity(l).get(0).copied().unwrap_or(0.0));
                     let Some(link) = mb.link_mut(link_id) else { continue };
@@ -283,6 +298,7 @@ impl RapierBackend {
                 let stiffness = if velocity_mode { 0.0 } else { k };
                 if let Some(link) = mb.link_mut(link_id) {
                     link.joint.data.set_motor(axis, pos, vel, stiffness, c);
+                    link.joint.data.set_motor_model(axis, MotorModel::AccelerationBased);
                 }
             }
         }
