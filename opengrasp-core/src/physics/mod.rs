@@ -177,33 +177,30 @@ pub enum JointTarget {
     Effort(f64),
 }
 
-/// A force-based joint spring ([`PhysicsEngine::set_joint_spring`]): the joint exerts
-/// `stiffness (position − q) − damping q̇`, capped at its motor's force limit, whatever its
+/// A joint spring ([`PhysicsEngine::set_joint_spring`]): the joint presses towards `position`
+/// with torque `stiffness |position − q|`, capped at its motor's force limit, whatever its
 /// actuator's target. Unlike a position target (per configuration dof) it is per joint, so
 /// coupled joints get rest positions of their own, and its stiffness is absolute (N·m/rad)
-/// rather than scaled by the links' inertia.
+/// rather than scaled by the links' inertia. Dynamic backends apply it through the joint's motor
+/// (rapier: the position motor towards `position` with its force capped at the spring's torque
+/// each substep), so a joint that is not blocked approaches `position` without overshoot.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct JointSpring {
     /// Rest position (rad or m).
     pub position: f64,
     /// Stiffness (N·m/rad, or N/m for a prismatic joint), ≥ 0.
     pub stiffness: f64,
-    /// Damping (N·m·s/rad, or N·s/m), ≥ 0.
-    pub damping: f64,
 }
 
 impl JointSpring {
-    /// Checks that the values are finite and the gains non-negative.
+    /// Checks that the position is finite and the stiffness finite and non-negative.
     ///
     /// # Errors
     /// [`CoreError::NonFinite`] for a non-finite position, [`CoreError::InvalidParameter`] for
-    /// a negative or non-finite gain.
+    /// a negative or non-finite stiffness.
     pub fn validate(&self) -> Result<()> {
         crate::error::ensure_finite("spring position", [self.position])?;
-        for (name, v) in [("stiffness", self.stiffness), ("damping", self.damping)] {
-            check_param(name, v, v.is_finite() && v >= 0.0, "must be finite and >= 0")?;
-        }
-        Ok(())
+        check_param("stiffness", self.stiffness, self.stiffness.is_finite() && self.stiffness >= 0.0, "must be finite and >= 0")
     }
 }
 

@@ -173,9 +173,6 @@ pub fn grip_torques(
     Ok(GripTorques { contact_forces, joints, min_normal: if min_normal.is_finite() { min_normal } else { 0.0 } })
 }
 
-/// Damping time constant (s) of the grip springs: damping = stiffness × this.
-const SPRING_DAMPING_TIME: f64 = 0.005;
-
 /// Commands `grip` as stall torques on the hand `robot` of `engine`: the closing joints'
 /// motors (position targets beyond contact) are capped at `|τᵢ|`, so each presses with its
 /// balanced torque while stalled.
@@ -198,7 +195,7 @@ pub fn command_grip<E: PhysicsEngine + ?Sized>(
 /// Turns the stall torques of [`command_grip`] into springs around the positions the joints
 /// have reached: every joint of `grip` becomes a force-based spring ([`JointSpring`]) of
 /// stiffness `kᵢ = limitᵢ / θ` (`θ = compliance`: full effort share at θ of deflection)
-/// resting `τᵢ / kᵢ` past its current simulated position `qᵢ`, damped with `kᵢ` × 5 ms. At
+/// resting `τᵢ / kᵢ` past its current simulated position `qᵢ`. At
 /// `qᵢ` it presses with exactly `τᵢ` as before, and with `τᵢ + kᵢ (qᵢ − q)` elsewhere, so an
 /// object pushed into one finger meets more force from it: a stable equilibrium instead of the
 /// neutral one of constant torques. Call it after the fingers have closed on the object
@@ -230,8 +227,7 @@ pub fn stiffen_grip<E: PhysicsEngine + ?Sized>(
             }
         };
         let stiffness = jt.limit / compliance;
-        let spring =
-            JointSpring { position: q + jt.torque / stiffness, stiffness, damping: stiffness * SPRING_DAMPING_TIME };
+        let spring = JointSpring { position: q + jt.torque / stiffness, stiffness };
         engine.set_joint_spring(robot, j, Some(spring))?;
     }
     Ok(())

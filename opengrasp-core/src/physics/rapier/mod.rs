@@ -122,8 +122,9 @@ struct JointEntry {
     /// Parent and child rigid bodies.
     parent: RigidBodyHandle,
     child: RigidBodyHandle,
-    /// A force-based spring replacing the actuator's target ([`PhysicsEngine::set_joint_spring`]).
-    spring: Option<super::JointSpring>,
+    /// A spring replacing the actuator's target ([`PhysicsEngine::set_joint_spring`]), with the
+    /// motor's force limit it is capped at.
+    spring: Option<(super::JointSpring, f64)>,
 }
 
 #[derive(Clone, Copy)]
@@ -301,6 +302,9 @@ impl PhysicsEngine for RapierBackend {
         if let Some(link) = mb.link_mut(link_id) {
             link.joint.data.set_motor_max_force(axis, limit);
         }
+        if let Some(Some(JointEntry { spring: Some((_, cap)), .. })) = self.robots[robot.0].joints.get_mut(joint.0) {
+            *cap = limit;
+        }
         Ok(())
     }
 
@@ -312,14 +316,26 @@ impl PhysicsEngine for RapierBackend {
     ) -> Result<()> {
         let r = self.robot(robot)?;
         let bad = CoreError::InvalidHandle { kind: "joint", index: joint.0 };
-        if !matches!(r.joints.get(joint.0), Some(Some(_))) || r.robot.driving_dof(joint).is_none() {
+        let Some(Some(e)) = r.joints.get(joint.0).copied() else { return Err(bad) };
+        if r.robot.driving_dof(joint).is_none() {
             return Err(bad);
         }
         if let Some(s) = spring {
             s.validate()?;
         }
-        if let Some(Some(e)) = self.robots[robot.0].joints.get_mut(joint.0) {
-            e.spring = spring;
+        let axis = if e.prismatic { JointAxis::LinX } else { JointAxis::AngX };
+        let Some((mb, link_id)) = self.multibody_joints.get_mut(e.handle) else { return Err(bad) };
+        let Some(link) = mb.link_mut(link_id) else { return Err(bad) };
+        // The motor's own force limit: kept while a spring caps it, restored without one.
+        let limit = match e.spring {
+            Some((_, cap)) => cap,
+            None => link.joint.data.motors[axis as usize].max_force,
+        };
+        if spring.is_none() {
+            link.joint.data.set_motor_max_force(axis, limit);
+        }
+        if let Some(Some(entry)) = self.robots[robot.0].joints.get_mut(joint.0) {
+            entry.spring = spring.map(|s| (s, limit));
         }
         Ok(())
     }
