@@ -68,6 +68,10 @@ pub struct PhysicsCheckOptions {
     /// pressing with the balanced torque `τᵢ` there, and more or less as the object moves towards
     /// or away from the finger (a stable equilibrium instead of a neutral one). Default: `None`.
     pub grip_compliance: Option<f64>,
+    /// With `balanced`: at the end of the squeeze the balanced grip is solved again on the
+    /// simulator's contacts and joint positions ([`super::grip_sim::after_squeeze`]), so the
+    /// torques balance the contacts the simulated fingers actually make. Default: false.
+    pub resolve_grip: bool,
     /// Friction margin of the balanced grip: its contact forces stay inside cones of
     /// `grip_margin × μ`, leaving friction for gravity. Default: 0.5.
     pub grip_margin: f64,
@@ -117,6 +121,7 @@ impl Default for PhysicsCheckOptions {
             balanced: None,
             grip_margin: 0.5,
             grip_compliance: None,
+            resolve_grip: false,
             max_translation: 0.02,
             max_rotation: 0.35,
             drop_translation: 0.1,
@@ -153,6 +158,12 @@ impl PhysicsCheckOptions {
             return Err(GraspError::InvalidParameter {
                 name: "effort",
                 reason: "`effort` and `balanced` exclude each other: set one".into(),
+            });
+        }
+        if self.resolve_grip && self.balanced.is_none() {
+            return Err(GraspError::InvalidParameter {
+                name: "resolve_grip",
+                reason: "needs `balanced` (it re-solves the balanced grip)".into(),
             });
         }
         if let Some(theta) = self.grip_compliance {
@@ -291,8 +302,8 @@ pub fn physics_check_with<E: PhysicsEngine>(
             engine.set_object_fixed(oid, true)?;
         }
         engine.step_n(settle_steps, dt)?;
-        if let (Some(grip), Some(theta)) = (&grip, options.grip_compliance) {
-            super::grip::stiffen_grip(&mut engine, rid, hand, grip, theta)?;
+        if let Some(grip) = &grip {
+            super::grip_sim::after_squeeze(&mut engine, rid, hand, object, evaluation, grip, options)?;
         }
         if options.fixture {
             engine.set_object_fixed(oid, false)?;
