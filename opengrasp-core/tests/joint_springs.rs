@@ -6,7 +6,9 @@
 use std::sync::Arc;
 
 use nalgebra::{Isometry3, Vector3};
-use opengrasp_core::model::{Geometry, Inertial, JointId, JointKind, JointSpec, Link, LinkId, Robot, RobotBuilder, Shape};
+use opengrasp_core::model::{
+    Geometry, Inertial, JointId, JointKind, JointSpec, Link, LinkId, Robot, RobotBuilder, Shape,
+};
 use opengrasp_core::physics::{JointSpring, MockBackend, PhysicsEngine, PhysicsOptions, RapierBackend};
 use opengrasp_core::scene::{RobotId, Scene};
 use opengrasp_core::CoreError;
@@ -66,8 +68,7 @@ fn a_spring_holds_a_hanging_finger_where_its_torque_balances_gravity() {
     for (mass, k, rest) in [(0.3, 5.0, 0.0), (0.01, 0.5, 0.2), (0.3, 20.0, -0.3)] {
         let (mut e, robot) = engine(mass, 10.0, G);
         for j in [JointId(0), JointId(1)] {
-            e.set_joint_spring(robot, j, Some(JointSpring { position: rest, stiffness: k }))
-                .unwrap();
+            e.set_joint_spring(robot, j, Some(JointSpring { position: rest, stiffness: k })).unwrap();
         }
         e.step_n(720, 1.0 / 240.0).unwrap();
         let mut mean = [0.0; 2];
@@ -133,7 +134,8 @@ fn spring_torque_is_capped_and_bad_springs_are_typed_errors() {
         (1, bad(0.0, f64::INFINITY), "parameter"),
         (5, bad(0.0, 1.0), "handle"),
     ] {
-        for result in [e.set_joint_spring(robot, JointId(joint), spring), mock.set_joint_spring(r, JointId(joint), spring)]
+        for result in
+            [e.set_joint_spring(robot, JointId(joint), spring), mock.set_joint_spring(r, JointId(joint), spring)]
         {
             match (result, kind) {
                 (Err(CoreError::NonFinite { .. }), "non-finite")

@@ -28,7 +28,8 @@ use opengrasp_core::physics::{ContactBody, PhysicsEngine, RapierBackend};
 use opengrasp_core::scene::ObjectId;
 use opengrasp_grasp::contact::ObjectFrame;
 use opengrasp_grasp::evaluator::{
-    after_squeeze, command_grip, grip_torques, physics_check, static_hold, EvaluatorOptions, GraspEvaluator, PhysicsCheckOptions, StaticHoldOptions,
+    after_squeeze, command_grip, grip_torques, physics_check, static_hold, EvaluatorOptions, GraspEvaluator,
+    PhysicsCheckOptions, StaticHoldOptions,
 };
 use opengrasp_grasp::planners::{GraspPlanner, GraspRequest, MedialAxisPlanner, SurfaceNormalPlanner};
 use opengrasp_grasp::tactile::sources::{evaluation_contacts, squeeze_engine, TactileSeriesOptions};

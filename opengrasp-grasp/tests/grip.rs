@@ -146,7 +146,10 @@ fn a_grasp_without_a_balanced_grip_is_checked_under_position_control() {
     let expected = physics_check(&hand, &object, &e, &position).unwrap();
     for options in [balanced, springs] {
         let out = physics_check(&hand, &object, &e, &options).unwrap();
-        assert_eq!(out.translations.iter().map(|t| t.to_bits()).collect::<Vec<_>>(), expected.translations.iter().map(|t| t.to_bits()).collect::<Vec<_>>());
+        assert_eq!(
+            out.translations.iter().map(|t| t.to_bits()).collect::<Vec<_>>(),
+            expected.translations.iter().map(|t| t.to_bits()).collect::<Vec<_>>()
+        );
         assert_eq!(out, expected);
     }
 }

@@ -200,7 +200,12 @@ impl JointSpring {
     /// a negative or non-finite stiffness.
     pub fn validate(&self) -> Result<()> {
         crate::error::ensure_finite("spring position", [self.position])?;
-        check_param("stiffness", self.stiffness, self.stiffness.is_finite() && self.stiffness >= 0.0, "must be finite and >= 0")
+        check_param(
+            "stiffness",
+            self.stiffness,
+            self.stiffness.is_finite() && self.stiffness >= 0.0,
+            "must be finite and >= 0",
+        )
     }
 }
 

@@ -217,8 +217,8 @@ pub fn stiffen_grip<E: PhysicsEngine + ?Sized>(
         let j = JointId(jt.joint);
         let joint = model.joint(j);
         // The joint's own motion: parent frame × origin × motion(q) = child frame.
-        let rel = (engine.link_pose(robot, joint.parent)? * joint.origin).inverse()
-            * engine.link_pose(robot, joint.child)?;
+        let rel =
+            (engine.link_pose(robot, joint.parent)? * joint.origin).inverse() * engine.link_pose(robot, joint.child)?;
         let q = match joint.kind {
             JointKind::Prismatic => rel.translation.vector.dot(&joint.axis),
             _ => {

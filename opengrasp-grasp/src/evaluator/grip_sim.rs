@@ -14,8 +14,8 @@ use crate::error::Result;
 /// Contacts weaker than this (N) are not counted as touching.
 const MIN_FORCE: f64 = 1e-6;
 
-/// `evaluation` as the simulator holds it: the joint positions of the hand `robot` in `engine`
-/// and its contacts with `object` (each point of a contact manifold pressing with more than
+/// `evaluation` as the simulator holds it: the joint positions of `hand` (robot `robot` in
+/// `engine`; clamped into their limits) and its contacts with `object` (each point of a contact manifold pressing with more than
 /// 1 µN; object frame, inward normals, depth = penetration).
 ///
 /// # Errors
@@ -23,6 +23,7 @@ const MIN_FORCE: f64 = 1e-6;
 /// non-finite contact.
 pub fn simulated_evaluation<E: PhysicsEngine + ?Sized>(
     engine: &E,
+    hand: &Hand,
     robot: RobotId,
     object: ObjectId,
     evaluation: &GraspEvaluation,
@@ -45,7 +46,10 @@ pub fn simulated_evaluation<E: PhysicsEngine + ?Sized>(
         let contact = Contact::new(to_object * c.point, to_object * inward)?;
         contacts.push(GraspContact { link: link.0, finger, contact, depth: -c.distance });
     }
-    Ok(GraspEvaluation { q: engine.joint_positions(robot)?, contacts, ..evaluation.clone() })
+    // The solver lets joints overshoot their limits by micro-radians: clamp into the model's.
+    let mut q = engine.joint_positions(robot)?;
+    hand.robot().clamp_configuration(&mut q);
+    Ok(GraspEvaluation { q, contacts, ..evaluation.clone() })
 }
 
 /// What the physics check does at the end of its squeeze, before the release: with
@@ -67,7 +71,7 @@ pub fn after_squeeze<E: PhysicsEngine + ?Sized>(
 ) -> Result<GripTorques> {
     let mut grip = grip.clone();
     if let (true, Some(fraction)) = (options.resolve_grip, options.balanced) {
-        let simulated = simulated_evaluation(&*engine, robot, ObjectId(0), evaluation)?;
+        let simulated = simulated_evaluation(&*engine, hand, robot, ObjectId(0), evaluation)?;
         let coupled = options.physics.coupled_actuators;
         let again = grip_torques(hand, object, &simulated, fraction, options.grip_margin, coupled)?;
         if again.joints.iter().any(|j| j.torque.abs() > 1e-6 * j.limit) {

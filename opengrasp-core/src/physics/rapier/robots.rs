@@ -155,8 +155,7 @@ impl RapierBackend {
                 self.multibody_joints.insert(parent_body, child_body, builder.build(), true).ok_or_else(|| {
                     CoreError::Physics { reason: format!("rapier rejected multibody joint `{}`", joint.name) }
                 })?;
-            joints[j.0] =
-                Some(JointEntry {
+            joints[j.0] = Some(JointEntry {
                 handle,
                 prismatic,
                 frame1,
@@ -278,7 +277,7 @@ impl RapierBackend {
                     // a stalled joint presses with exactly that torque, and one moving towards
                     // the rest position faster than the approach is braked (the damping).
                     let Some(link) = mb.link_mut(link_id) else { continue };
-                    let q = joint_value(&e, &link.joint().body_to_parent(), s.position);
+                    let q = joint_value(e, &link.joint().body_to_parent(), s.position);
                     let torque = (s.stiffness * (s.position - q).abs()).min(limit);
                     link.joint.data.set_motor(axis, s.position, 0.0, SPRING_APPROACH_RATE, 1.0);
                     link.joint.data.set_motor_max_force(axis, torque);
