@@ -67,6 +67,10 @@ pub struct PhysicsCheckOptions {
     /// θ of deflection) resting `τᵢ / stiffness` past the joint's simulated position: it keeps
     /// pressing with the balanced torque `τᵢ` there, and more or less as the object moves towards
     /// or away from the finger (a stable equilibrium instead of a neutral one). Default: `None`.
+    /// Measured (`physics_sweep per_cell=5 balanced=1 compliance=0.05`, 30 Hz contacts): Barrett
+    /// 19/79 held, ARMAR-III 0/80 (position control: 26/79, 0/80); with `resolve=1` the same,
+    /// and 9/79 at 1 kHz contacts. The springs resist squeezing, not the sideways escape of
+    /// fingertip grasps (the traced ARMAR-III salt-can grasp loses every contact within 40 ms).
     pub grip_compliance: Option<f64>,
     /// With `balanced`: at the end of the squeeze the balanced grip is solved again on the
     /// simulator's contacts and joint positions ([`super::grip_sim::after_squeeze`]), so the
