@@ -48,9 +48,10 @@ struct Step {
     cells: usize,
 }
 
-/// Spheres `[x, y, z, r]` of link `a` by cluster (bounding sphere, members) in `a`'s frame,
-/// and of link `b` in `b`'s frame, of one cover.
-type Cover = (Vec<([f64; 4], Vec<[f64; 4]>)>, Vec<[f64; 4]>);
+/// Spheres of link `a` by cluster (bounding sphere `[x, y, z, r]`, members as arrays of
+/// `x`, `y`, `z`, `r`) in `a`'s frame, and of link `b` by cluster (bounding sphere, members
+/// `[x, y, z, r]`) in `b`'s frame, of one cover.
+type Cover = (Vec<([f64; 4], [Vec<f64>; 4])>, Vec<([f64; 4], Vec<[f64; 4]>)>);
 
 /// A conservative distance table of one link pair (see the module documentation).
 pub(in crate::validity) struct PairTable {
@@ -107,10 +108,17 @@ impl PairTable {
         }
         let covers: Vec<Cover> = covers
             .iter()
-            .map(|soa| (soa.link_clusters(a), soa.link_clusters(b).into_iter().flat_map(|(_, s)| s).collect()))
+            .map(|soa| {
+                let clusters = soa
+                    .link_clusters(a)
+                    .into_iter()
+                    .map(|(c, m)| (c, std::array::from_fn(|i| m.iter().map(|s| s[i]).collect())));
+                (clusters.collect(), soa.link_clusters(b))
+            })
             .collect();
         // Grid: each joint loses at most MARGIN / joints at the spheres' largest distances.
-        let reach = covers.iter().flat_map(|c| &c.1).map(|s| norm(&[s[0], s[1], s[2]])).fold(0.0, f64::max);
+        let reach =
+            covers.iter().flat_map(|c| &c.1).flat_map(|c| &c.1).map(|s| norm(&[s[0], s[1], s[2]])).fold(0.0, f64::max);
         let (mut offset, joints) = (0.0, steps.len() as f64);
         for s in steps.iter_mut().rev() {
             let rho = reach + offset;
@@ -130,10 +138,9 @@ impl PairTable {
         for s in &steps {
             key.extend(chain.joint_key(s.frame).chain([s.dof as f64, s.lo, s.width, s.cells as f64]));
         }
-        for (clusters, spheres) in &covers {
-            key.extend(
-                clusters.iter().flat_map(|(c, m)| c.iter().chain(m.iter().flatten())).chain(spheres.iter().flatten()),
-            );
+        for (ca, cb) in &covers {
+            key.extend(ca.iter().flat_map(|(c, m)| c.iter().chain(m.iter().flatten())));
+            key.extend(cb.iter().flat_map(|(c, m)| c.iter().chain(m.iter().flatten())));
         }
         Some(Self { steps, covers, key, cells: OnceLock::new() })
     }
@@ -172,8 +179,8 @@ impl PairTable {
 
     /// Fills the block of cells `[lo, hi)` (per joint; a second index of `0..1` for one joint).
     fn fill(&self, chain: &Chain, out: &mut [f32], lo: [usize; 2], hi: [usize; 2]) {
-        let (lb, ub) = self.bounds(chain, lo, hi);
         let single = hi[0] - lo[0] == 1 && hi[1] - lo[1] == 1;
+        let (lb, ub) = self.bounds(chain, lo, hi, single);
         if ub <= 0.0 {
             return;
         }
@@ -200,7 +207,9 @@ impl PairTable {
 
     /// Over the block `[lo, hi)`: a lower bound on the pair's sphere distance (of the better
     /// cover) at every point, and an upper bound (if `≤ 0`, every point is in collision).
-    fn bounds(&self, chain: &Chain, lo: [usize; 2], hi: [usize; 2]) -> (f64, f64) {
+    /// With `single` (one cell) a cover is left as soon as its lower bound is not positive,
+    /// and the upper bound may be larger.
+    fn bounds(&self, chain: &Chain, lo: [usize; 2], hi: [usize; 2], single: bool) -> (f64, f64) {
         // Per joint: value at the block centre, half angle (inflated against rounding).
         let mut poses = [IDENTITY; 2];
         let mut half = [0.0; 2];
@@ -210,30 +219,62 @@ impl PairTable {
             half[k] = 0.5 * (hi[k] - lo[k]) as f64 * s.width * s.scale * (1.0 + 1e-6);
         }
         let (mut lb, mut ub) = (f64::NEG_INFINITY, f64::NEG_INFINITY);
-        for (clusters, spheres) in &self.covers {
+        // The coarse cover (last) first: it alone often settles a block.
+        for (clusters, b_clusters) in self.covers.iter().rev() {
             let (mut clb, mut cub) = (f64::INFINITY, f64::INFINITY);
-            for sb in spheres {
-                let mut p = [sb[0], sb[1], sb[2]];
-                let mut reach = 0.0;
+            // A sphere of `b` within `extra` of `p` in `b`'s frame: where `p` is at the block
+            // centre (in `a`'s frame), and how far such a sphere's centre moves in the block.
+            let place = |p: &[f64; 4], extra: f64| {
+                let (mut p, mut reach) = ([p[0], p[1], p[2]], 0.0);
                 for (k, s) in self.steps.iter().enumerate().rev() {
-                    reach += half[k] * off_axis(&p, &s.axis);
+                    reach += half[k] * (off_axis(&p, &s.axis) + extra);
                     p = apply(&poses[k], &p);
                 }
-                let reach = reach * (1.0 + 1e-9) + 1e-12;
-                for (c, members) in clusters {
-                    let g = dist(&p, c) - c[3] - sb[3];
-                    if g - reach >= clb && g + reach >= cub {
-                        continue;
-                    }
-                    for sa in members {
-                        let g = dist(&p, sa) - sa[3] - sb[3];
+                (p, reach * (1.0 + 1e-9) + 1e-12)
+            };
+            for (cb, spheres) in b_clusters {
+                // A cluster pair whose bounding spheres cannot lower either bound is skipped
+                // (the cluster's spheres move at most `reach` and lie within its sphere).
+                let (p, reach) = place(cb, cb[3]);
+                let near = |c: &[f64; 4]| {
+                    let g = dist(&p, c) - c[3] - cb[3];
+                    g - reach < clb || g < cub
+                };
+                if !clusters.iter().any(|(c, _)| near(c)) {
+                    continue;
+                }
+                for sb in spheres {
+                    let (p, reach) = place(sb, 0.0);
+                    for (c, members) in clusters {
+                        let g = dist(&p, c) - c[3] - sb[3];
+                        if g - reach >= clb && g + reach >= cub {
+                            continue;
+                        }
+                        let [xs, ys, zs, rs] = members;
+                        let n = xs.len().min(ys.len()).min(zs.len()).min(rs.len());
+                        // The least member gap, branch-free so it vectorises.
+                        let g = (0..n).fold(f64::INFINITY, |acc, i| {
+                            let v = ((xs[i] - p[0]).powi(2) + (ys[i] - p[1]).powi(2) + (zs[i] - p[2]).powi(2)).sqrt()
+                                - rs[i];
+                            if v < acc {
+                                v
+                            } else {
+                                acc
+                            }
+                        }) - sb[3];
                         clb = clb.min(g - reach);
                         cub = cub.min(g + reach);
                     }
                 }
+                if single && clb <= 0.0 {
+                    break;
+                }
             }
             lb = lb.max(clb);
             ub = ub.max(cub);
+            if lb > 0.0 && ub - lb <= 2.0 * lb {
+                break;
+            }
         }
         (lb, ub)
     }
