@@ -51,7 +51,7 @@ proptest! {
     /// At random configurations of the Panda, with the wrist joints also drawn near where
     /// the wrist pairs come close: every table bound is at most the pair's sphere distance
     /// (computed with the robot's own kinematics), and a pair more than 6 mm apart is settled
-    /// (a cell's bound loses at most twice the motion in the cell, 2 mm on the Panda).
+    /// (a cell's bound loses at most twice the motion in the cell, 4 mm on the Panda).
     #[test]
     fn panda_table_bounds_are_sound_and_settle_clear_pairs(seed in 0u64..1_000_000) {
         let (_, model) = panda();

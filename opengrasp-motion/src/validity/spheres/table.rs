@@ -29,7 +29,7 @@ use super::super::soa::SphereSoa;
 
 /// Largest loss (m) of a cell's bound to the motion within it, from the spheres' largest
 /// distances from the axes (the closest spheres usually lose much less): sets the grid.
-const MARGIN: f64 = 1e-3;
+const MARGIN: f64 = 2e-3;
 /// Most cells per table.
 const MAX_CELLS: usize = 1 << 20;
 /// Absolute slack (m) against the rounding of the kinematics, as the certificates'.
