@@ -11,11 +11,16 @@
 //! [`SKIP_MARGIN`] is farther than the best, so parry's search would not take its distance
 //! either. The best distance after every triangle is thus parry's, and so are the pruning of
 //! the boxes and the result, bit for bit.
+//!
+//! [`mesh_contact`] does the same for parry's contact query (`contact_composite_shape_shape`:
+//! the deepest contact of the triangles whose boxes meet the shape's box loosened by the
+//! prediction distance): a triangle whose bound exceeds the prediction distance has no contact.
 
 use nalgebra::{Isometry3, Vector3};
 use parry3d_f64::bounding_volume::Aabb;
+use parry3d_f64::bounding_volume::BoundingVolume;
 use parry3d_f64::partitioning::BvhNode;
-use parry3d_f64::query::{DefaultQueryDispatcher, QueryDispatcher};
+use parry3d_f64::query::{Contact, DefaultQueryDispatcher, QueryDispatcher};
 use parry3d_f64::shape::{Shape as ParryShape, TriMesh, Triangle};
 
 /// A triangle is skipped only if its lower bound exceeds the threshold by more than this (m):
@@ -51,6 +56,45 @@ pub(super) fn mesh_distance_below(
     // parry: pos12 = p1⁻¹ p2, then the composite query with the mesh first at pos12⁻¹.
     let pose12 = p1.inv_mul(p2).inverse();
     Some(walk(mesh, s1, &pose12, bound))
+}
+
+/// The contact parry's `query::contact(p1, s1, p2, s2, prediction)` returns for a convex `s1`
+/// and a triangle mesh `s2` (see the module docs); `None` when the pair is not convex shape
+/// and mesh.
+pub(super) fn mesh_contact(
+    p1: &Isometry3<f64>,
+    s1: &dyn ParryShape,
+    p2: &Isometry3<f64>,
+    s2: &dyn ParryShape,
+    prediction: f64,
+) -> Option<Option<Contact>> {
+    let mesh = s2.as_trimesh()?;
+    if s1.as_support_map().is_none() || s1.as_composite_shape().is_some() {
+        return None;
+    }
+    // parry: pos12 = p1⁻¹ p2, the composite query with the mesh first at pos12⁻¹, the contact
+    // flipped back and moved to the world frame.
+    let pos12 = p1.inv_mul(p2);
+    let pose12 = pos12.inverse();
+    let local = s1.compute_local_aabb();
+    let ls_aabb2 = s1.compute_aabb(&pose12).loosened(prediction);
+    let mut best: Option<Contact> = None;
+    for part in mesh.bvh().intersect_aabb(&ls_aabb2) {
+        let tri = mesh.triangle(part);
+        if box_lower_bound(&tri, &local, &pos12) > prediction + SKIP_MARGIN {
+            continue;
+        }
+        if let Ok(Some(c)) = DefaultQueryDispatcher.contact(&pose12, &tri, s1, prediction) {
+            if best.is_none_or(|b| c.dist < b.dist) {
+                best = Some(c);
+            }
+        }
+    }
+    Some(best.map(|c| {
+        let mut c = c.flipped();
+        c.transform_by_mut(p1, p2);
+        c
+    }))
 }
 
 /// Nearest-box-first search of `mesh`'s BVH as in parry's `distance_to_shape`.
@@ -153,6 +197,12 @@ mod tests {
                 let bound = reference * bound_scale;
                 let below = mesh_distance_below(&pose, shape, &mesh_pose, &mesh, bound).unwrap();
                 prop_assert_eq!(below.map(f64::to_bits), (reference < bound).then_some(reference.to_bits()));
+                // Contacts within a prediction distance around the distance: the same contact
+                // (points, normals, depth; Debug prints every bit of an f64).
+                let prediction = reference * bound_scale;
+                let reference = query::contact(&pose, shape, &mesh_pose, &mesh, prediction).unwrap();
+                let ours = mesh_contact(&pose, shape, &mesh_pose, &mesh, prediction).unwrap();
+                prop_assert_eq!(format!("{ours:?}"), format!("{reference:?}"));
             }
         }
     }
