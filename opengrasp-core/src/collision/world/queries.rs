@@ -372,10 +372,9 @@ impl CollisionWorld {
                 for (p, (pose, aabb)) in o.parts.iter().zip(&obj_parts) {
                     if aabb_distance(aabb, &item.aabb) <= margin {
                         let contact = super::mesh_distance::mesh_contact(&item.pose, shape, pose, &*p.shape, margin)
-                            .map_or_else(
-                                || query::contact(&item.pose, shape, pose, &*p.shape, margin).ok().flatten(),
-                                |c| c,
-                            );
+                            .unwrap_or_else(|| {
+                                query::contact(&item.pose, shape, pose, &*p.shape, margin).ok().flatten()
+                            });
                         if let Some(c) = contact {
                             out.push(to_contact(item.link, Collider::Object(object), &c));
                         }
