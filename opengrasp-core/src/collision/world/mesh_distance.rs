@@ -39,6 +39,12 @@ pub(super) fn box_lower_bound(tri: &Triangle, local: &Aabb, to_shape: &Isometry3
     gap.norm()
 }
 
+/// `s2`'s triangle mesh if `s1` is a convex (support-map, not composite) shape, the pairs
+/// parry answers with its composite queries.
+fn convex_and_mesh<'a>(s1: &dyn ParryShape, s2: &'a dyn ParryShape) -> Option<&'a TriMesh> {
+    (s1.as_support_map().is_some() && s1.as_composite_shape().is_none()).then(|| s2.as_trimesh()).flatten()
+}
+
 /// The distance parry's `query::distance(p1, s1, p2, s2)` returns for a convex `s1` and a
 /// triangle mesh `s2`, when it is below `bound`; `None` when it is not (see the module docs).
 /// `None` from the outer option means the pair is not convex shape and mesh.
@@ -49,10 +55,7 @@ pub(super) fn mesh_distance_below(
     s2: &dyn ParryShape,
     bound: f64,
 ) -> Option<Option<f64>> {
-    let mesh = s2.as_trimesh()?;
-    if s1.as_support_map().is_none() || s1.as_composite_shape().is_some() {
-        return None;
-    }
+    let mesh = convex_and_mesh(s1, s2)?;
     // parry: pos12 = p1⁻¹ p2, then the composite query with the mesh first at pos12⁻¹.
     let pose12 = p1.inv_mul(p2).inverse();
     Some(walk(mesh, s1, &pose12, bound))
@@ -68,10 +71,7 @@ pub(super) fn mesh_contact(
     s2: &dyn ParryShape,
     prediction: f64,
 ) -> Option<Option<Contact>> {
-    let mesh = s2.as_trimesh()?;
-    if s1.as_support_map().is_none() || s1.as_composite_shape().is_some() {
-        return None;
-    }
+    let mesh = convex_and_mesh(s1, s2)?;
     // parry: pos12 = p1⁻¹ p2, the composite query with the mesh first at pos12⁻¹, the contact
     // flipped back and moved to the world frame.
     let pos12 = p1.inv_mul(p2);
