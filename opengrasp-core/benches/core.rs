@@ -101,6 +101,46 @@ fn bench_collision(c: &mut Criterion) {
             black_box(world.distance(arm, black_box(&qs[k])).expect("distance"))
         })
     });
+    // A non-convex triangle mesh (the exact link-to-mesh distance walks the mesh's BVH).
+    let (scene, arm) = arm_beside_torus();
+    let world = CollisionWorld::new(&scene).expect("world");
+    let mut k = 0;
+    c.bench_function("min_distance_7dof_torus_mesh", |b| {
+        b.iter(|| {
+            k = (k + 1) % qs.len();
+            black_box(world.distance(arm, black_box(&qs[k])).expect("distance"))
+        })
+    });
+}
+
+/// The sample arm beside a torus mesh (radii 0.3 and 0.08, 1,024 triangles) at 0.5 m.
+fn arm_beside_torus() -> (Scene, RobotId) {
+    let robot = Arc::new(samples::seven_dof_arm().expect("sample arm"));
+    let mut scene = Scene::new("arm beside a torus");
+    let arm = scene.add_robot("arm", robot, Isometry3::identity()).expect("robot");
+    let (n, m) = (32u32, 16u32);
+    let mut vertices = Vec::new();
+    for i in 0..n {
+        let phi = 2.0 * PI * f64::from(i) / f64::from(n);
+        for j in 0..m {
+            let theta = 2.0 * PI * f64::from(j) / f64::from(m);
+            let rho = 0.3 + 0.08 * theta.cos();
+            vertices.push(nalgebra::Point3::new(rho * phi.cos(), rho * phi.sin(), 0.08 * theta.sin()));
+        }
+    }
+    let mut triangles = Vec::new();
+    for i in 0..n {
+        for j in 0..m {
+            let v = |a: u32, b: u32| (a % n) * m + b % m;
+            triangles.push([v(i, j), v(i + 1, j), v(i + 1, j + 1)]);
+            triangles.push([v(i, j), v(i + 1, j + 1), v(i, j + 1)]);
+        }
+    }
+    let mesh = opengrasp_core::model::TriangleMesh::new(vertices, triangles).expect("torus mesh");
+    let shape = Shape::at_origin(Geometry::Mesh(Arc::new(mesh)));
+    let pose = Isometry3::translation(0.5, 0.0, 0.6);
+    scene.add_body(StaticBody::new("torus", pose, vec![shape])).expect("body");
+    (scene, arm)
 }
 
 mod group {

@@ -7,7 +7,9 @@
 //! Keys (defaults are [`PhysicsCheckOptions::default`]'s): `stiffness` (joint motor, s⁻²),
 //! `damping` (s⁻¹), `squeeze` (rad), `effort` (fraction of the effort limits; 0: position
 //! control with `squeeze`), `balanced` (fraction of the joints' effort shares for the balanced
-//! grip torques; 0: off), `grip_margin`, `contact_hz`, `iterations`, `timestep` (s), `fixture`
+//! grip torques; 0: off), `grip_margin`, `compliance` (rad: the balanced grip as joint springs,
+//! full effort at this deflection; 0: off), `resolve` (0/1: re-solve the balanced grip on
+//! the simulated contacts after the squeeze), `contact_hz`, `iterations`, `timestep` (s), `fixture`
 //! (0/1), `coupled` (0/1), `per_cell` (grasps per planner and object, default 3), `hand`
 //! (`barrett` or `armar3`; default both). Per object and planner the first 128 candidates
 //! (spread evenly) are evaluated and `per_cell` of the force-closure palm grasps, spread
@@ -32,6 +34,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "effort" => options.effort = Some(value.parse()?).filter(|&f: &f64| f > 0.0),
             "balanced" => options.balanced = Some(value.parse()?).filter(|&f: &f64| f > 0.0),
             "grip_margin" => options.grip_margin = value.parse()?,
+            "resolve" => options.resolve_grip = value != "0",
+            "compliance" => options.grip_compliance = Some(value.parse()?).filter(|&f: &f64| f > 0.0),
             "contact_hz" => p.contact_frequency = value.parse()?,
             "iterations" => p.solver_iterations = value.parse()?,
             "timestep" => p.timestep = value.parse()?,

@@ -17,7 +17,9 @@
 //! (`coupled_actuators` off) for comparison with the shared actuator. The environment variable
 //! `CONTACT_HZ` overrides the contact natural frequency (`PhysicsOptions::contact_frequency`),
 //! `SQUEEZE` the squeeze, `BALANCED=f` switches to the balanced grip torques
-//! ([`PhysicsCheckOptions::balanced`], printed with their contact forces) and `GRAVITY=x,y,z`
+//! ([`PhysicsCheckOptions::balanced`], printed with their contact forces), `COMPLIANCE=θ` makes
+//! them joint springs ([`PhysicsCheckOptions::grip_compliance`]), `RESOLVE=1` re-solves them on
+//! the simulated contacts ([`PhysicsCheckOptions::resolve_grip`]) and `GRAVITY=x,y,z`
 //! (object frame, m/s²) switches gravity on at the release of the traced grasp.
 
 use nalgebra::Vector3;
@@ -26,7 +28,8 @@ use opengrasp_core::physics::{ContactBody, PhysicsEngine, RapierBackend};
 use opengrasp_core::scene::ObjectId;
 use opengrasp_grasp::contact::ObjectFrame;
 use opengrasp_grasp::evaluator::{
-    grip_torques, physics_check, static_hold, EvaluatorOptions, GraspEvaluator, PhysicsCheckOptions, StaticHoldOptions,
+    after_squeeze, command_grip, grip_torques, physics_check, static_hold, EvaluatorOptions, GraspEvaluator,
+    PhysicsCheckOptions, StaticHoldOptions,
 };
 use opengrasp_grasp::planners::{GraspPlanner, GraspRequest, MedialAxisPlanner, SurfaceNormalPlanner};
 use opengrasp_grasp::tactile::sources::{evaluation_contacts, squeeze_engine, TactileSeriesOptions};
@@ -74,6 +77,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     if let Ok(f) = std::env::var("BALANCED") {
         options.balanced = Some(f.parse()?);
+    }
+    options.resolve_grip = std::env::var("RESOLVE").is_ok_and(|v| v != "0");
+    if let Ok(theta) = std::env::var("COMPLIANCE") {
+        options.grip_compliance = Some(theta.parse()?);
     }
     let pick = |k: usize| &grasps[k * grasps.len() / 10];
     if args.get(2).map(String::as_str) == Some("all") {
@@ -155,14 +162,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let (mut engine, rid) = squeeze_engine::<RapierBackend>(&hand, &object, grasp, &squeeze)?;
     if let Some(g) = &grip {
-        for j in g.joints.iter().filter(|j| hand.closing_velocity()[j.dof] != 0.0) {
-            engine.set_joint_force_limit(rid, opengrasp_core::model::JointId(j.joint), j.torque.abs())?;
-        }
+        command_grip(&mut engine, rid, &hand, g)?;
     }
     let dt = options.physics.timestep;
     engine.set_object_fixed(ObjectId(0), true)?;
     engine.step_n((options.settle / dt).ceil() as usize, dt)?;
     print_forces("end of the clamped squeeze", &engine, robot, dt)?;
+    if let Some(g) = &grip {
+        let g = after_squeeze(&mut engine, rid, &hand, &object, grasp, g, &options)?;
+        if options.resolve_grip {
+            for j in &g.joints {
+                let name = &robot.joint(opengrasp_core::model::JointId(j.joint)).name;
+                println!("  re-solved grip joint {name:14} {:7.3} of {:.3} N·m", j.torque, j.limit);
+            }
+        }
+    }
     let q0 = engine.joint_positions(rid)?;
     println!("joints at the end of the squeeze {q0:.3?} (evaluated {:.3?})", grasp.q);
     engine.set_object_fixed(ObjectId(0), false)?;

@@ -107,3 +107,62 @@ fn balanced_grip_holds_the_barrett_salt_can_wrap_in_all_six_directions() {
     let dropped = physics_check(&hand, &slippery, &e, &axial).unwrap();
     assert!(dropped.translations[0] > 0.05, "{dropped:?}");
 }
+
+/// `effort` and `balanced` exclude each other, and `grip_compliance` needs `balanced` and a
+/// positive value: typed errors from `validate` and from the check itself.
+#[test]
+fn physics_check_rejects_conflicting_actuator_modes() {
+    let (hand, object, e) = barrett_salt_can_wrap();
+    let defaults = PhysicsCheckOptions::default();
+    assert!(defaults.validate().is_ok());
+    let bad = [
+        PhysicsCheckOptions { effort: Some(0.5), balanced: Some(1.0), ..defaults.clone() },
+        PhysicsCheckOptions { grip_compliance: Some(0.05), ..defaults.clone() },
+        PhysicsCheckOptions { balanced: Some(1.0), grip_compliance: Some(0.0), ..defaults.clone() },
+        PhysicsCheckOptions { balanced: Some(1.0), grip_compliance: Some(f64::NAN), ..defaults.clone() },
+    ];
+    for options in bad {
+        assert!(matches!(options.validate(), Err(GraspError::InvalidParameter { .. })), "{options:?}");
+        assert!(
+            matches!(physics_check(&hand, &object, &e, &options), Err(GraspError::InvalidParameter { .. })),
+            "{options:?}"
+        );
+    }
+    assert!(PhysicsCheckOptions { balanced: Some(1.0), grip_compliance: Some(0.05), ..defaults }.validate().is_ok());
+}
+
+/// A grasp whose balanced grip is all zero (one fingertip contact alone cannot squeeze: nothing
+/// balances it) is checked as without `balanced`: the same outcome to the last bit.
+#[test]
+fn a_grasp_without_a_balanced_grip_is_checked_under_position_control() {
+    let (hand, object, mut e) = barrett_salt_can_wrap();
+    let finger = e.contacts.iter().position(|c| c.link != hand.palm().0).unwrap();
+    e.contacts = vec![e.contacts[finger]];
+    let grip = grip_torques(&hand, &object, &e, 1.0, 0.5, true).unwrap();
+    assert!(grip.joints.iter().all(|j| j.torque.abs() <= 1e-6 * j.limit), "{grip:?}");
+    let position = PhysicsCheckOptions { directions: vec![-Vector3::z(), Vector3::x()], ..Default::default() };
+    let balanced = PhysicsCheckOptions { balanced: Some(1.0), ..position.clone() };
+    let springs = PhysicsCheckOptions { grip_compliance: Some(0.05), ..balanced.clone() };
+    let expected = physics_check(&hand, &object, &e, &position).unwrap();
+    for options in [balanced, springs] {
+        let out = physics_check(&hand, &object, &e, &options).unwrap();
+        assert_eq!(
+            out.translations.iter().map(|t| t.to_bits()).collect::<Vec<_>>(),
+            expected.translations.iter().map(|t| t.to_bits()).collect::<Vec<_>>()
+        );
+        assert_eq!(out, expected);
+    }
+}
+
+/// The balanced grip turned into joint springs at the end of the squeeze (`grip_compliance`)
+/// holds the Barrett salt-can wrap in all six directions too, deterministically.
+#[test]
+fn balanced_grip_springs_hold_the_barrett_salt_can_wrap() {
+    let (hand, object, e) = barrett_salt_can_wrap();
+    let options = PhysicsCheckOptions { balanced: Some(1.0), grip_compliance: Some(0.05), ..Default::default() };
+    let out = physics_check(&hand, &object, &e, &options).unwrap();
+    println!("{out:?}");
+    assert_eq!(out.results, vec![HoldResult::Held; 6], "{out:?}");
+    assert!(out.translations.iter().all(|&t| t < 0.004), "{out:?}");
+    assert_eq!(physics_check(&hand, &object, &e, &options).unwrap(), out);
+}

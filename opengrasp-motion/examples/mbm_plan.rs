@@ -5,7 +5,8 @@
 //! `RrtConnectOptions::dynamic_domain` (not a number, e.g. `none`: off), a sixth
 //! `RrtConnectOptions::range`) for instruction counts (`perf stat`, `valgrind --tool=callgrind`), which stay
 //! comparable on a loaded machine where timings do not. Prints the solved runs, the states
-//! checked and the planning time.
+//! checked and the planning time (mean and median per run; the first run of a model also
+//! builds its pair tables, `SphereWorld::with_pair_tables`).
 //!
 //! ```sh
 //! cargo run --release -p opengrasp-motion --example mbm_plan -- cage 20 10 [lanes|single [RADIUS|none [RANGE]]]
@@ -37,22 +38,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let model = PlanningModel::Spheres(std::sync::Arc::new(layered));
     for set in sets.iter().filter(|s| s.name().contains(&filter)) {
         let instances: Vec<_> = (0..set.len()).map(|i| set.instance_with(i, &model)).collect::<Result<_, _>>()?;
-        let (mut solved, mut checks, mut time) = (0, 0, Duration::ZERO);
+        let (mut solved, mut checks, mut times) = (0, 0, Vec::new());
         for seed in 0..seeds {
             for instance in &instances {
                 let counter = CountingChecker::new(instance.planner_checker());
                 let problem = instance.problem(&counter, limit, seed, 0.02);
                 let t = Instant::now();
                 solved += usize::from(RrtConnect::new(options).plan(&problem).is_ok());
-                time += t.elapsed();
+                times.push(t.elapsed());
                 checks += counter.checks();
             }
         }
         let runs = seeds as usize * instances.len();
+        let time: Duration = times.iter().sum();
+        times.sort();
         println!(
-            "{}: {solved}/{runs} solved, {checks} states checked, {:.3} ms per run",
+            "{}: {solved}/{runs} solved, {checks} states checked, {:.3} ms per run, median {:.3} ms",
             set.name(),
-            time.as_secs_f64() * 1e3 / runs as f64
+            time.as_secs_f64() * 1e3 / runs.max(1) as f64,
+            times.get(runs / 2).map_or(0.0, |t| t.as_secs_f64() * 1e3)
         );
     }
     Ok(())

@@ -4,11 +4,14 @@
 //! parry's `ConvexPolyhedron` finds support points by a linear scan over its vertices, which
 //! dominates GJK on hulls of a few hundred vertices (scanned objects, lathed or lofted meshes).
 //! [`ClimbingHull`] wraps the same polyhedron (same geometry, same vertices) and answers the
-//! support query by hill climbing from the best of a few precomputed extreme vertices; on a
-//! convex polyhedron a vertex no neighbour improves is a global maximum. The vertices within a
-//! tiny tolerance of the maximum are then searched for the one parry's linear scan would return
-//! (the largest dot product, lowest index among equals), so the support points — and hence
-//! every GJK/EPA result — are the same as with the plain `ConvexPolyhedron`.
+//! support query by hill climbing from a precomputed vertex: the support vertex of the centre
+//! of the query direction's cell in a cube map (6 × 8 × 8 cells), usually the answer or one
+//! or two edges from it; on a convex polyhedron a vertex no neighbour improves is a global
+//! maximum. The vertices within a tiny tolerance of the maximum are then searched for the one
+//! parry's linear scan would return (the largest dot product, lowest index among equals; the
+//! linear scan itself for a plateau of more than 32 vertices, a finely lathed cap), so the
+//! support points — and hence every GJK/EPA result — are the same as with the plain
+//! `ConvexPolyhedron`. The query allocates nothing.
 
 use nalgebra::{Point3, Unit, Vector3};
 use parry3d_f64::bounding_volume::{Aabb, BoundingSphere};
@@ -18,15 +21,48 @@ use parry3d_f64::query::point::local_point_projection_on_support_map;
 use parry3d_f64::query::{PointProjection, PointQuery, Ray, RayCast, RayIntersection};
 use parry3d_f64::shape::{ConvexPolyhedron, FeatureId, PolygonalFeatureMap, Shape, ShapeType, SupportMap, TypedShape};
 
-/// Directions whose support vertices seed the climb (the 26 neighbours of a cube's centre).
-fn seed_directions() -> Vec<Vector3<f64>> {
-    let mut out = Vec::with_capacity(26);
-    for x in -1..=1 {
-        for y in -1..=1 {
-            for z in -1..=1 {
-                if (x, y, z) != (0, 0, 0) {
-                    out.push(Vector3::new(x as f64, y as f64, z as f64).normalize());
-                }
+/// Cells per face edge of the direction cube map that seeds the climb.
+const CUBE_CELLS: usize = 8;
+
+/// Largest plateau (near-tied vertices) searched on the vertex graph; a larger one (a finely
+/// lathed cap facing the direction) is answered by the linear scan.
+const PLATEAU_CAP: usize = 32;
+
+/// Cube-map cell of a direction: the face of its largest component (by sign) and the cell of
+/// the other two components divided by it. `None` for a zero or non-finite direction.
+fn cube_cell(dir: &Vector3<f64>) -> Option<usize> {
+    let a = dir.map(f64::abs);
+    let axis = if a.x >= a.y && a.x >= a.z {
+        0
+    } else if a.y >= a.z {
+        1
+    } else {
+        2
+    };
+    let m = dir[axis];
+    if m == 0.0 || !(a.x + a.y + a.z).is_finite() {
+        return None;
+    }
+    let (u, v) = (dir[(axis + 1) % 3] / m.abs(), dir[(axis + 2) % 3] / m.abs());
+    let k = CUBE_CELLS as f64;
+    let cell = |t: f64| (((t + 1.0) * 0.5 * k) as usize).min(CUBE_CELLS - 1);
+    let face = 2 * axis + usize::from(m < 0.0);
+    Some((face * CUBE_CELLS + cell(u)) * CUBE_CELLS + cell(v))
+}
+
+/// The centre direction of every cube-map cell, in cell order.
+fn cube_directions() -> Vec<Vector3<f64>> {
+    let k = CUBE_CELLS as f64;
+    let mut out = Vec::with_capacity(6 * CUBE_CELLS * CUBE_CELLS);
+    for face in 0..6 {
+        let (axis, sign) = (face / 2, if face % 2 == 0 { 1.0 } else { -1.0 });
+        for i in 0..CUBE_CELLS {
+            for j in 0..CUBE_CELLS {
+                let mut d = Vector3::zeros();
+                d[axis] = sign;
+                d[(axis + 1) % 3] = (i as f64 + 0.5) / k * 2.0 - 1.0;
+                d[(axis + 2) % 3] = (j as f64 + 0.5) / k * 2.0 - 1.0;
+                out.push(d);
             }
         }
     }
@@ -54,7 +90,7 @@ pub struct ClimbingHull {
     /// Vertex adjacency (CSR): neighbours of vertex `v` are `adj[start[v]..start[v + 1]]`.
     start: Vec<u32>,
     adj: Vec<u32>,
-    /// Support vertices of the seed directions, deduplicated.
+    /// Support vertex of each cube-map cell's centre direction: where the climb starts.
     seeds: Vec<u32>,
     /// Dot products within this of the maximum are re-examined for the linear-scan winner.
     tolerance: f64,
@@ -86,10 +122,7 @@ impl ClimbingHull {
             adj.extend_from_slice(l);
         }
         start.push(adj.len() as u32);
-        let mut seeds: Vec<u32> =
-            seed_directions().iter().map(|d| linear_support_id(poly.points(), d) as u32).collect();
-        seeds.sort_unstable();
-        seeds.dedup();
+        let seeds: Vec<u32> = cube_directions().iter().map(|d| linear_support_id(poly.points(), d) as u32).collect();
         let radius = poly.points().iter().map(|p| p.coords.norm()).fold(0.0, f64::max);
         let tolerance = 1e-12 * radius.max(1e-300);
         Self { poly, start, adj, seeds, tolerance }
@@ -108,15 +141,11 @@ impl ClimbingHull {
     pub fn support_id(&self, dir: &Vector3<f64>) -> usize {
         let pts = self.poly.points();
         let dot = |v: usize| pts[v].coords.dot(dir);
-        let mut best = self.seeds[0] as usize;
+        let Some(cell) = cube_cell(dir) else {
+            return linear_support_id(pts, dir);
+        };
+        let mut best = self.seeds[cell] as usize;
         let mut best_dot = dot(best);
-        for &s in &self.seeds[1..] {
-            let d = dot(s as usize);
-            if d > best_dot {
-                best = s as usize;
-                best_dot = d;
-            }
-        }
         if !best_dot.is_finite() {
             return linear_support_id(pts, dir);
         }
@@ -137,28 +166,28 @@ impl ClimbingHull {
         // Near-ties (a face or edge orthogonal to `dir`): search the plateau for the largest
         // dot, lowest index, as the linear scan would pick.
         let threshold = best_dot - self.tolerance;
-        let mut plateau = false;
-        for &nb in self.neighbours(best) {
-            if dot(nb as usize) >= threshold {
-                plateau = true;
-                break;
-            }
-        }
-        if !plateau {
+        if !self.neighbours(best).iter().any(|&nb| dot(nb as usize) >= threshold) {
             return best;
         }
-        let mut stack = vec![best as u32];
-        let mut seen = vec![best as u32];
+        // The plateau's vertices in discovery order; `seen[..next]` have been expanded.
+        let mut seen = [0u32; PLATEAU_CAP];
+        seen[0] = best as u32;
+        let (mut len, mut next) = (1, 0);
         let (mut win, mut win_dot) = (best, best_dot);
-        while let Some(v) = stack.pop() {
-            for &nb in self.neighbours(v as usize) {
-                if seen.contains(&nb) {
+        while next < len {
+            let v = seen[next] as usize;
+            next += 1;
+            for &nb in self.neighbours(v) {
+                if seen[..len].contains(&nb) {
                     continue;
                 }
                 let d = dot(nb as usize);
                 if d >= threshold {
-                    seen.push(nb);
-                    stack.push(nb);
+                    if len == PLATEAU_CAP {
+                        return linear_support_id(pts, dir);
+                    }
+                    seen[len] = nb;
+                    len += 1;
                     if d > win_dot || (d == win_dot && (nb as usize) < win) {
                         win = nb as usize;
                         win_dot = d;
@@ -301,8 +330,49 @@ mod tests {
         assert!((c.dist + 0.005).abs() < 1e-9, "depth {}", c.dist);
     }
 
+    #[test]
+    fn cube_cells_cover_every_direction_once() {
+        let dirs = cube_directions();
+        assert_eq!(dirs.len(), 6 * CUBE_CELLS * CUBE_CELLS);
+        for (c, d) in dirs.iter().enumerate() {
+            assert_eq!(cube_cell(d), Some(c));
+            assert_eq!(cube_cell(&(d * 1e-200)), Some(c));
+        }
+        // Cell edges and face edges (ties of the largest component) still map into range.
+        for d in [Vector3::new(1.0, 1.0, 1.0), Vector3::new(-1.0, 1.0, -1.0), Vector3::new(0.0, -1.0, 1.0)] {
+            assert!(cube_cell(&d).is_some_and(|c| c < dirs.len()));
+        }
+        for d in [Vector3::zeros(), Vector3::new(f64::NAN, 1.0, 0.0), Vector3::new(f64::INFINITY, 0.0, 0.0)] {
+            assert_eq!(cube_cell(&d), None);
+        }
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(128))]
+        /// Random point clouds (no symmetry, a few hundred hull vertices at most) and random
+        /// directions, including ones with zero components and tiny magnitudes.
+        #[test]
+        fn support_equals_linear_scan_on_random_hulls(
+            seed in 0u64..1_000,
+            n in 4usize..300,
+            dirs in proptest::collection::vec((-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64), 16),
+        ) {
+            let mut state = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            let mut next = || {
+                state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+            };
+            let pts: Vec<Point3<f64>> = (0..n).map(|_| Point3::new(next(), 0.5 * next(), 0.2 * next())).collect();
+            let Some(poly) = ConvexPolyhedron::from_convex_hull(&pts) else { return Ok(()) };
+            let hull = ClimbingHull::new(poly.clone());
+            for (x, y, z) in dirs {
+                for d in [Vector3::new(x, y, z), Vector3::new(x, 0.0, z), Vector3::new(x, y, z) * 1e-150] {
+                    prop_assert_eq!(hull.support_id(&d), linear_support_id(poly.points(), &d));
+                }
+            }
+        }
+
+
         #[test]
         fn support_equals_linear_scan(x in -1.0..1.0f64, y in -1.0..1.0f64, z in -1.0..1.0f64, n in 8usize..80) {
             let poly = cylinder(n);

@@ -168,6 +168,19 @@ impl PhysicsEngine for MockBackend {
         super::check_force_limit(limit)
     }
 
+    fn set_joint_spring(
+        &mut self,
+        robot: RobotId,
+        joint: crate::model::JointId,
+        spring: Option<super::JointSpring>,
+    ) -> Result<()> {
+        let r = self.robot(robot)?;
+        if joint.0 >= r.robot.joints().len() || r.robot.driving_dof(joint).is_none() {
+            return Err(CoreError::InvalidHandle { kind: "joint", index: joint.0 });
+        }
+        spring.map_or(Ok(()), |s| s.validate())
+    }
+
     fn joint_positions(&self, robot: RobotId) -> Result<Vec<f64>> {
         Ok(self.robot(robot)?.q.clone())
     }

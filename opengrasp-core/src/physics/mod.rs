@@ -186,6 +186,38 @@ pub enum JointTarget {
     Effort(f64),
 }
 
+/// A joint spring ([`PhysicsEngine::set_joint_spring`]): the joint presses towards `position`
+/// with torque `stiffness |position − q|`, capped at its motor's force limit, whatever its
+/// actuator's target. Unlike a position target (per configuration dof) it is per joint, so
+/// coupled joints get rest positions of their own, and its stiffness is absolute (N·m/rad)
+/// rather than scaled by the links' inertia. Dynamic backends apply it through the joint's motor
+/// (rapier: the position motor towards `position` with its force capped at the spring's torque
+/// each substep), so a joint that is not blocked approaches `position` without overshoot.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JointSpring {
+    /// Rest position (rad or m).
+    pub position: f64,
+    /// Stiffness (N·m/rad, or N/m for a prismatic joint), ≥ 0.
+    pub stiffness: f64,
+}
+
+impl JointSpring {
+    /// Checks that the position is finite and the stiffness finite and non-negative.
+    ///
+    /// # Errors
+    /// [`CoreError::NonFinite`] for a non-finite position, [`CoreError::InvalidParameter`] for
+    /// a negative or non-finite stiffness.
+    pub fn validate(&self) -> Result<()> {
+        crate::error::ensure_finite("spring position", [self.position])?;
+        check_param(
+            "stiffness",
+            self.stiffness,
+            self.stiffness.is_finite() && self.stiffness >= 0.0,
+            "must be finite and >= 0",
+        )
+    }
+}
+
 /// Linear and angular velocity of a rigid body in the world frame.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct BodyVelocity {
@@ -314,6 +346,15 @@ pub trait PhysicsEngine: Send {
     /// [`CoreError::InvalidHandle`] for an unknown robot or a joint without a motor (fixed or
     /// unknown), [`CoreError::InvalidParameter`] for a negative or non-finite limit.
     fn set_joint_force_limit(&mut self, robot: RobotId, joint: JointId, limit: f64) -> Result<()>;
+
+    /// Replaces joint `joint`'s motor by `spring` (see [`JointSpring`]; its force stays capped
+    /// by the motor's limit, [`PhysicsEngine::set_joint_force_limit`]); `None` returns the joint
+    /// to its actuator's target. Kinematic backends check and ignore it.
+    ///
+    /// # Errors
+    /// As [`PhysicsEngine::set_joint_force_limit`] for the robot and joint; the spring's
+    /// [`JointSpring::validate`] errors.
+    fn set_joint_spring(&mut self, robot: RobotId, joint: JointId, spring: Option<JointSpring>) -> Result<()>;
 
     /// Sets position targets for every dof of `robot` (one value per configuration index).
     /// Nothing changes if any value is invalid.

@@ -25,6 +25,8 @@ use opengrasp_core::hand::Hand;
 use opengrasp_core::kinematics::forward_kinematics;
 use opengrasp_core::model::{JointId, JointKind, LinkId, Robot};
 use opengrasp_core::object::ObjectModel;
+use opengrasp_core::physics::{JointSpring, PhysicsEngine};
+use opengrasp_core::scene::RobotId;
 use serde::{Deserialize, Serialize};
 
 use clarabel::solver::SupportedConeT;
@@ -169,6 +171,66 @@ pub fn grip_torques(
     let driven = |c: usize| torque[c].iter().any(|t| t.iter().any(|&v| v != 0.0));
     let min_normal = (0..nc).filter(|&c| driven(c)).map(|c| x[3 * c]).fold(f64::INFINITY, f64::min);
     Ok(GripTorques { contact_forces, joints, min_normal: if min_normal.is_finite() { min_normal } else { 0.0 } })
+}
+
+/// Commands `grip` as stall torques on the hand `robot` of `engine`: the closing joints'
+/// motors (position targets beyond contact) are capped at `|τᵢ|`, so each presses with its
+/// balanced torque while stalled.
+///
+/// # Errors
+/// [`GraspError::Core`] from the engine.
+pub fn command_grip<E: PhysicsEngine + ?Sized>(
+    engine: &mut E,
+    robot: RobotId,
+    hand: &Hand,
+    grip: &GripTorques,
+) -> Result<()> {
+    let closing = hand.closing_velocity();
+    for jt in grip.joints.iter().filter(|jt| closing.get(jt.dof).is_some_and(|&v| v != 0.0)) {
+        engine.set_joint_force_limit(robot, JointId(jt.joint), jt.torque.abs())?;
+    }
+    Ok(())
+}
+
+/// Turns the stall torques of [`command_grip`] into springs around the positions the joints
+/// have reached: every joint of `grip` becomes a force-based spring ([`JointSpring`]) of
+/// stiffness `kᵢ = limitᵢ / θ` (`θ = compliance`: full effort share at θ of deflection)
+/// resting `τᵢ / kᵢ` past its current simulated position `qᵢ`. At
+/// `qᵢ` it presses with exactly `τᵢ` as before, and with `τᵢ + kᵢ (qᵢ − q)` elsewhere, so an
+/// object pushed into one finger meets more force from it: a stable equilibrium instead of the
+/// neutral one of constant torques. Call it after the fingers have closed on the object
+/// (the check's clamped squeeze), where their simulated contacts are.
+///
+/// # Errors
+/// [`GraspError::InvalidParameter`] for a non-positive or non-finite `compliance`;
+/// [`GraspError::Core`] from the engine.
+pub fn stiffen_grip<E: PhysicsEngine + ?Sized>(
+    engine: &mut E,
+    robot: RobotId,
+    hand: &Hand,
+    grip: &GripTorques,
+    compliance: f64,
+) -> Result<()> {
+    crate::planners::check_positive("grip_compliance", compliance)?;
+    let model = hand.robot();
+    for jt in grip.joints.iter().filter(|jt| jt.limit > 0.0) {
+        let j = JointId(jt.joint);
+        let joint = model.joint(j);
+        // The joint's own motion: parent frame × origin × motion(q) = child frame.
+        let rel =
+            (engine.link_pose(robot, joint.parent)? * joint.origin).inverse() * engine.link_pose(robot, joint.child)?;
+        let q = match joint.kind {
+            JointKind::Prismatic => rel.translation.vector.dot(&joint.axis),
+            _ => {
+                let r = rel.rotation.quaternion();
+                2.0 * r.imag().dot(&joint.axis).atan2(r.w)
+            }
+        };
+        let stiffness = jt.limit / compliance;
+        let spring = JointSpring { position: q + jt.torque / stiffness, stiffness };
+        engine.set_joint_spring(robot, j, Some(spring))?;
+    }
+    Ok(())
 }
 
 /// The program of the module docs; returns the local force components (3 per contact) and `t`.

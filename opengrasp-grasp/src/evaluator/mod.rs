@@ -23,6 +23,7 @@
 
 mod closing;
 mod grip;
+mod grip_sim;
 mod hand_data;
 mod options;
 mod physics;
@@ -44,7 +45,8 @@ use crate::quality::hull::{ConvexHull, HullOptions};
 use crate::quality::{GraspQuality, QualityOptions, QualityReport, RobustEpsilon};
 use opengrasp_core::object::ObjectModel;
 
-pub use grip::{grip_torques, GripTorques, JointTorque};
+pub use grip::{command_grip, grip_torques, stiffen_grip, GripTorques, JointTorque};
+pub use grip_sim::{after_squeeze, simulated_evaluation};
 pub use hand_data::hand_info;
 use hand_data::{hand_data, hand_radius, HandData};
 pub use options::EvaluatorOptions;

@@ -125,6 +125,27 @@ impl Chain {
         out
     }
 
+    /// Moving frame `f` (≥ 1): its parent frame, the group value driving it, and for a
+    /// revolute joint its axis (in the frame's own coordinates, through its origin) and the
+    /// joint's scale (joint angle = scale · value + offset); `None` for a prismatic joint.
+    pub fn joint(&self, f: usize) -> (usize, usize, Option<([f64; 3], f64)>) {
+        let fr = &self.frames[f - 1];
+        (fr.parent, fr.dof, (!fr.prismatic).then_some((fr.axis, fr.scale)))
+    }
+
+    /// Moving frame `f`'s pose in its parent frame at driving value `q`.
+    pub fn local(&self, f: usize, q: f64) -> Mat34 {
+        let fr = &self.frames[f - 1];
+        compose(&fr.fixed, &fr.motion(q))
+    }
+
+    /// Everything [`Chain::local`] of frame `f` depends on, as numbers (to tell whether two
+    /// chains move the frame alike).
+    pub fn joint_key(&self, f: usize) -> impl Iterator<Item = f64> + '_ {
+        let fr = &self.frames[f - 1];
+        fr.fixed.iter().chain(&fr.axis).copied().chain([fr.scale, fr.offset, f64::from(u8::from(fr.prismatic))])
+    }
+
     /// The world poses of every frame for group values `q` into `out` (frame 0 the identity).
     #[inline]
     pub fn frames(&self, q: &[f64], out: &mut Vec<Mat34>) {

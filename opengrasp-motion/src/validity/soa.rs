@@ -291,6 +291,27 @@ impl SphereSoa {
         }
     }
 
+    /// Link `k`'s chain frame.
+    pub fn frame_of(&self, k: usize) -> usize {
+        self.frame[k]
+    }
+
+    /// Link `k`'s spheres in its chain frame by cluster: each cluster's bounding sphere and
+    /// its spheres, as `[x, y, z, radius]`.
+    pub fn link_clusters(&self, k: usize) -> Vec<([f64; 4], Vec<[f64; 4]>)> {
+        let (cs, ce) = self.link_clusters[k];
+        (cs..ce)
+            .map(|j| {
+                let c = self.cluster_centre[j];
+                let (s, e) = self.clusters[j];
+                (
+                    [c.x, c.y, c.z, self.cluster_radius[j]],
+                    (s..e).map(|i| [self.x[i], self.y[i], self.z[i], self.r[i]]).collect(),
+                )
+            })
+            .collect()
+    }
+
     /// The obstacles.
     pub fn obstacles(&self) -> &[ObstacleFrame] {
         &self.obstacles

@@ -15,8 +15,10 @@ use super::{MotionBound, ObstacleBox, ObstaclePrimitive, StateValidityChecker};
 
 mod certified;
 mod lanes;
+mod table;
 
 use certified::Certificates;
+use table::PairTable;
 
 /// Which link pairs a [`SphereWorld`] checks for self-collision.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -89,6 +91,9 @@ pub struct SphereWorld {
     /// their checked states certify ([`SphereWorld::with_certified_motions`]).
     cert: Certificates,
     certify: bool,
+    /// Per moving pair, its distance table if it has one ([`SphereWorld::with_pair_tables`]).
+    tables: Vec<Option<Arc<PairTable>>>,
+    use_tables: bool,
 }
 
 /// How a [`SphereWorld`] covers mesh collision shapes (other shapes have closed-form covers).
@@ -205,6 +210,8 @@ impl SphereWorld {
             batched: false,
             cert: Certificates::default(),
             certify: true,
+            tables: Vec::new(),
+            use_tables: true,
         };
         Ok(world.with_self_collision(SelfCollisionPairs::default()))
     }
@@ -468,6 +475,7 @@ impl SphereWorld {
         });
         self.fixed_ok = self.soa.static_free_of_obstacles() && static_pairs_clear;
         self.cert = self.motion_tests();
+        self.tables = self.pair_tables();
     }
 
     /// The state check behind [`StateValidityChecker::is_valid`]: the compiled forward
@@ -482,7 +490,11 @@ impl SphereWorld {
         let (frames, fine) = (&s.frames, &mut s.centres);
         let Some((_, coarse)) = &self.coarse else {
             return self.soa.free_of_obstacles(frames, fine)
-                && self.moving_pairs.iter().all(|&(a, b)| self.soa.pair_clear(frames, fine, a, b));
+                && self
+                    .moving_pairs
+                    .iter()
+                    .enumerate()
+                    .all(|(p, &(a, b))| self.table_gap(p, q).is_some() || self.soa.pair_clear(frames, fine, a, b));
         };
         coarse.begin(frames, &mut s.coarse);
         let rough = &mut s.coarse;
@@ -496,9 +508,11 @@ impl SphereWorld {
                 }
             }
         }
-        self.moving_pairs
-            .iter()
-            .all(|&(a, b)| coarse.pair_clear(frames, rough, a, b) || self.soa.pair_clear(frames, fine, a, b))
+        self.moving_pairs.iter().enumerate().all(|(p, &(a, b))| {
+            self.table_gap(p, q).is_some()
+                || coarse.pair_clear(frames, rough, a, b)
+                || self.soa.pair_clear(frames, fine, a, b)
+        })
     }
 }
 

@@ -2,6 +2,7 @@
 //! the queries, [`narrow`] tests shape pairs).
 
 mod distances;
+mod mesh_distance;
 mod narrow;
 mod queries;
 

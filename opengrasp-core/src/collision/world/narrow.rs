@@ -61,6 +61,9 @@ pub(super) fn distance_below(a: Placed<'_>, b: Placed<'_>, bound: f64) -> Option
             }
         }
     }
+    if let Some(d) = super::mesh_distance::mesh_distance_below(a.pose, a.shape, b.pose, b.shape, bound) {
+        return d;
+    }
     distance(a.pose, a.shape, b.pose, b.shape).filter(|&d| d < bound)
 }
 

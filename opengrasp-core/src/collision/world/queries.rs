@@ -371,7 +371,11 @@ impl CollisionWorld {
                 let shape = self.item_shape(rid, item);
                 for (p, (pose, aabb)) in o.parts.iter().zip(&obj_parts) {
                     if aabb_distance(aabb, &item.aabb) <= margin {
-                        if let Ok(Some(c)) = query::contact(&item.pose, shape, pose, &*p.shape, margin) {
+                        let contact = super::mesh_distance::mesh_contact(&item.pose, shape, pose, &*p.shape, margin)
+                            .unwrap_or_else(|| {
+                                query::contact(&item.pose, shape, pose, &*p.shape, margin).ok().flatten()
+                            });
+                        if let Some(c) = contact {
                             out.push(to_contact(item.link, Collider::Object(object), &c));
                         }
                     }

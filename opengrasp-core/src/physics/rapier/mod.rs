@@ -124,6 +124,9 @@ struct JointEntry {
     /// Parent and child rigid bodies.
     parent: RigidBodyHandle,
     child: RigidBodyHandle,
+    /// A spring replacing the actuator's target ([`PhysicsEngine::set_joint_spring`]), with the
+    /// motor's force limit it is capped at.
+    spring: Option<(super::JointSpring, f64)>,
 }
 
 #[derive(Clone, Copy)]
@@ -326,6 +329,41 @@ impl PhysicsEngine for RapierBackend {
         let Some((mb, link_id)) = self.multibody_joints.get_mut(e.handle) else { return Err(bad) };
         if let Some(link) = mb.link_mut(link_id) {
             link.joint.data.set_motor_max_force(axis, limit);
+        }
+        if let Some(Some(JointEntry { spring: Some((_, cap)), .. })) = self.robots[robot.0].joints.get_mut(joint.0) {
+            *cap = limit;
+        }
+        Ok(())
+    }
+
+    fn set_joint_spring(
+        &mut self,
+        robot: RobotId,
+        joint: crate::model::JointId,
+        spring: Option<super::JointSpring>,
+    ) -> Result<()> {
+        let r = self.robot(robot)?;
+        let bad = CoreError::InvalidHandle { kind: "joint", index: joint.0 };
+        let Some(Some(e)) = r.joints.get(joint.0).copied() else { return Err(bad) };
+        if r.robot.driving_dof(joint).is_none() {
+            return Err(bad);
+        }
+        if let Some(s) = spring {
+            s.validate()?;
+        }
+        let axis = if e.prismatic { JointAxis::LinX } else { JointAxis::AngX };
+        let Some((mb, link_id)) = self.multibody_joints.get_mut(e.handle) else { return Err(bad) };
+        let Some(link) = mb.link_mut(link_id) else { return Err(bad) };
+        // The motor's own force limit: kept while a spring caps it, restored without one.
+        let limit = match e.spring {
+            Some((_, cap)) => cap,
+            None => link.joint.data.motors[axis as usize].max_force,
+        };
+        if spring.is_none() {
+            link.joint.data.set_motor_max_force(axis, limit);
+        }
+        if let Some(Some(entry)) = self.robots[robot.0].joints.get_mut(joint.0) {
+            entry.spring = spring.map(|s| (s, limit));
         }
         Ok(())
     }

@@ -165,8 +165,15 @@ impl RapierBackend {
                 self.multibody_joints.insert(parent_body, child_body, builder.build(), true).ok_or_else(|| {
                     CoreError::Physics { reason: format!("rapier rejected multibody joint `{}`", joint.name) }
                 })?;
-            joints[j.0] =
-                Some(JointEntry { handle, prismatic, frame1, frame2, parent: parent_body, child: child_body });
+            joints[j.0] = Some(JointEntry {
+                handle,
+                prismatic,
+                frame1,
+                frame2,
+                parent: parent_body,
+                child: child_body,
+                spring: None,
+            });
         }
 
         // Move the multibodies to the scene configuration.
@@ -285,6 +292,18 @@ impl RapierBackend {
                 let d = r.dofs[dof];
                 let axis = if e.prismatic { JointAxis::LinX } else { JointAxis::AngX };
                 let Some((mb, link_id)) = self.multibody_joints.get_mut(e.handle) else { continue };
+                if let Some((s, limit)) = e.spring {
+                    // rapier's multibody motors are stiff velocity constraints: this one tracks
+                    // a slow approach to the rest position with at most the spring's torque, so
+                    // a stalled joint presses with exactly that torque, and one moving towards
+                    // the rest position faster than the approach is braked (the damping).
+                    let Some(link) = mb.link_mut(link_id) else { continue };
+                    let q = joint_value(e, &link.joint().body_to_parent(), s.position);
+                    let torque = (s.stiffness * (s.position - q).abs()).min(limit);
+                    link.joint.data.set_motor(axis, s.position, 0.0, SPRING_APPROACH_RATE, 1.0);
+                    link.joint.data.set_motor_max_force(axis, torque);
+                    continue;
+                }
                 if let JointTarget::Effort(effort) = d.target {
                     let speed = mb.link(link_id).map_or(0.0, |l| mb.joint_velocity(l).get(0).copied().unwrap_or(0.0));
                     let Some(link) = mb.link_mut(link_id) else { continue };
@@ -333,19 +352,28 @@ impl RapierBackend {
                 let Some(e) = r.joints[j.0] else { continue };
                 let Some((mb, link_id)) = self.multibody_joints.get(e.handle) else { continue };
                 let Some(link) = mb.link(link_id) else { continue };
-                let rel = e.frame1.inverse() * link.joint().body_to_parent() * e.frame2;
-                let value = if e.prismatic {
-                    rel.translation.vector.x
-                } else {
-                    let q = rel.rotation.quaternion();
-                    let angle = 2.0 * q.i.atan2(q.w);
-                    let prev = r.q[i];
-                    angle + 2.0 * PI * ((prev - angle) / (2.0 * PI)).round()
-                };
-                r.q[i] = value;
+                r.q[i] = joint_value(&e, &link.joint().body_to_parent(), r.q[i]);
                 r.qd[i] = mb.joint_velocity(link).get(0).copied().unwrap_or(0.0);
             }
         }
+    }
+}
+
+/// Rate (s⁻¹) at which a joint spring's motor lets its joint approach the rest position: a
+/// stalled joint's velocity is below it, so the spring presses with its full torque; a joint
+/// moving faster is braked.
+const SPRING_APPROACH_RATE: f64 = 4.0;
+
+/// Joint `e`'s position (m, or rad unwrapped to the turn nearest `near`) from its multibody
+/// link's `body_to_parent` transform.
+fn joint_value(e: &JointEntry, body_to_parent: &Isometry3<f64>, near: f64) -> f64 {
+    let rel = e.frame1.inverse() * body_to_parent * e.frame2;
+    if e.prismatic {
+        rel.translation.vector.x
+    } else {
+        let q = rel.rotation.quaternion();
+        let angle = 2.0 * q.i.atan2(q.w);
+        angle + 2.0 * PI * ((near - angle) / (2.0 * PI)).round()
     }
 }
 

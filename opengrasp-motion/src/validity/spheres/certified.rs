@@ -25,8 +25,8 @@ const SLACK: f64 = 1e-9;
 pub(super) enum Test {
     /// Link `k` (moving) against obstacle `o`.
     Obstacle { o: usize, k: usize },
-    /// Links `a` and `b`, not rigidly attached.
-    Pair { a: usize, b: usize },
+    /// Links `a` and `b`, not rigidly attached: moving pair `p`.
+    Pair { a: usize, b: usize, p: usize },
 }
 
 /// The tests of a state check with what certifies them along a motion.
@@ -60,8 +60,8 @@ impl SphereWorld {
                 cert.weights.extend((0..dim).map(|j| bound.radius(k, j)));
             }
         }
-        for &(a, b) in &self.moving_pairs {
-            cert.tests.push(Test::Pair { a, b });
+        for (p, &(a, b)) in self.moving_pairs.iter().enumerate() {
+            cert.tests.push(Test::Pair { a, b, p });
             let (la, lb) = (
                 self.chain.lineage(self.chain.link(self.links[a]).0),
                 self.chain.lineage(self.chain.link(self.links[b]).0),
@@ -88,7 +88,7 @@ impl SphereWorld {
             Test::Obstacle { o, k } => self.soa.link_far(o, k, fine).or_else(|| {
                 coarse.and_then(|c| c.link_gap(o, k, frames, rough)).or_else(|| self.soa.link_gap(o, k, frames, fine))
             }),
-            Test::Pair { a, b } => {
+            Test::Pair { a, b, .. } => {
                 coarse.and_then(|c| c.pair_gap(frames, rough, a, b)).or_else(|| self.soa.pair_gap(frames, fine, a, b))
             }
         }
@@ -146,16 +146,26 @@ impl SphereWorld {
             } else {
                 interpolate_into(a, b, i as f64 / n as f64, &mut q);
             }
-            self.chain.frames(&q, &mut s.frames);
-            self.soa.begin(&s.frames, &mut s.centres);
-            if let Some((_, coarse)) = &self.coarse {
-                coarse.begin(&s.frames, &mut s.coarse);
-            }
+            // The kinematics only once a test needs them (a table may settle the rest).
+            let mut placed = false;
             all = u64::MAX;
             for (t, &test) in cert.tests.iter().enumerate() {
                 let mut bits = s.certified[t];
                 if bits >> i & 1 == 0 {
-                    let Some(gap) = self.test_gap(test, &s.frames, &mut s.centres, &mut s.coarse) else {
+                    let table = match test {
+                        Test::Pair { p, .. } => self.table_gap(p, &q),
+                        Test::Obstacle { .. } => None,
+                    };
+                    if table.is_none() && !placed {
+                        placed = true;
+                        self.chain.frames(&q, &mut s.frames);
+                        self.soa.begin(&s.frames, &mut s.centres);
+                        if let Some((_, coarse)) = &self.coarse {
+                            coarse.begin(&s.frames, &mut s.coarse);
+                        }
+                    }
+                    let gap = table.or_else(|| self.test_gap(test, &s.frames, &mut s.centres, &mut s.coarse));
+                    let Some(gap) = gap else {
                         verdict = (false, pos as u64 + 1);
                         break 'states;
                     };
