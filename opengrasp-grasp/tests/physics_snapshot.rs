@@ -8,7 +8,7 @@ use opengrasp_core::hand::Hand;
 use opengrasp_core::model::{JointId, LinkId};
 use opengrasp_core::object::ObjectModel;
 use opengrasp_core::physics::{
-    BodyVelocity, JointTarget, MockBackend, PhysicsContact, PhysicsEngine, PhysicsOptions, RapierBackend,
+    BodyVelocity, JointSpring, JointTarget, MockBackend, PhysicsContact, PhysicsEngine, PhysicsOptions, RapierBackend,
 };
 use opengrasp_core::scene::{ObjectId, RobotId, Scene};
 use opengrasp_core::Result;
@@ -44,6 +44,9 @@ impl<E: PhysicsEngine> PhysicsEngine for Fresh<E> {
     }
     fn set_joint_force_limit(&mut self, robot: RobotId, joint: JointId, limit: f64) -> Result<()> {
         self.0.set_joint_force_limit(robot, joint, limit)
+    }
+    fn set_joint_spring(&mut self, robot: RobotId, joint: JointId, spring: Option<JointSpring>) -> Result<()> {
+        self.0.set_joint_spring(robot, joint, spring)
     }
     fn joint_positions(&self, robot: RobotId) -> Result<Vec<f64>> {
         self.0.joint_positions(robot)
@@ -138,4 +141,23 @@ fn mock_check_is_the_same_with_and_without_snapshots() {
     assert_eq!(snapshot, fresh);
     assert_eq!(snapshot.translations, vec![0.0; 6]);
     assert!(snapshot.held());
+}
+
+#[test]
+fn balanced_grip_with_springs_is_the_same_from_a_snapshot() {
+    // The balanced grip re-solved after the squeeze and turned into joint springs: motor caps
+    // and springs set during the settle must be copied by the snapshot.
+    let (hand, object) = (hands::barrett(), cylinder(0.02));
+    let grasp = side_grasp(&hand, &object, Vector3::y());
+    let options = PhysicsCheckOptions {
+        balanced: Some(1.0),
+        grip_compliance: Some(0.05),
+        resolve_grip: true,
+        ..PhysicsCheckOptions::default()
+    };
+    let snapshot = physics_check_with::<RapierBackend>(&hand, &object, &grasp, &options).unwrap();
+    let fresh = physics_check_with::<Fresh<RapierBackend>>(&hand, &object, &grasp, &options).unwrap();
+    assert_eq!(snapshot, fresh);
+    assert_eq!(snapshot.translations.len(), 6);
+    assert!(snapshot.translations.iter().all(|t| t.is_finite() && *t > 0.0), "{snapshot:?}");
 }
