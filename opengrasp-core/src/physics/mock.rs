@@ -136,6 +136,10 @@ impl PhysicsEngine for MockBackend {
         Ok(())
     }
 
+    fn snapshot(&self) -> Option<Self> {
+        Some(self.clone())
+    }
+
     fn gravity(&self) -> Vector3<f64> {
         self.gravity
     }

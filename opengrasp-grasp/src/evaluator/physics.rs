@@ -15,8 +15,9 @@ use super::{EvaluationStatus, GraspEvaluation};
 /// Options of the physics check ([`physics_check`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct PhysicsCheckOptions {
-    /// Directions of gravity tried one after the other, each in a fresh simulation (object
-    /// frame). Default: the six axis directions ±x, ±y, ±z.
+    /// Directions of gravity tried one after the other (object frame), each in its own
+    /// simulation continued from the common settled state. Default: the six axis directions
+    /// ±x, ±y, ±z.
     pub directions: Vec<Vector3<f64>>,
     /// Magnitude of gravity (m/s²). Default: 9.81.
     pub gravity: f64,
@@ -296,8 +297,17 @@ pub fn physics_check_with<E: PhysicsEngine>(
     let oid = ObjectId(0);
     let dt = options.physics.timestep;
     let (settle_steps, steps) = ((options.settle / dt).ceil() as usize, (options.duration / dt).ceil() as usize);
-    // Settle the squeezing fingers without gravity, then run with `gravity` (zero: control).
-    let run = |gravity: Vector3<f64>| -> Result<Isometry3<f64>> {
+    let mut gravities = Vec::with_capacity(options.directions.len());
+    for dir in &options.directions {
+        let n = dir.norm();
+        if !(n.is_finite() && n > 0.0) {
+            return Err(GraspError::InvalidParameter { name: "directions", reason: format!("bad direction {dir:?}") });
+        }
+        gravities.push(dir * (options.gravity / n));
+    }
+    // The squeezing fingers settle without gravity (the object clamped with `fixture`), the
+    // object is released: the state every run starts from.
+    let settled = || -> Result<E> {
         let (mut engine, rid) = squeeze_engine::<E>(hand, object, evaluation, &squeeze)?;
         if let Some(grip) = &grip {
             super::grip::command_grip(&mut engine, rid, hand, grip)?;
@@ -312,18 +322,20 @@ pub fn physics_check_with<E: PhysicsEngine>(
         if options.fixture {
             engine.set_object_fixed(oid, false)?;
         }
+        Ok(engine)
+    };
+    // Settled once: each run continues from a snapshot of it (bitwise what settling afresh
+    // gives), or from a fresh settle on a backend without snapshots.
+    let start = settled()?;
+    let run = |gravity: Vector3<f64>| -> Result<Isometry3<f64>> {
+        let mut engine = match start.snapshot() {
+            Some(engine) => engine,
+            None => settled()?,
+        };
         engine.set_gravity(gravity)?;
         engine.step_n(steps, dt)?;
         Ok(engine.object_pose(oid)?)
     };
-    let mut gravities = Vec::with_capacity(options.directions.len());
-    for dir in &options.directions {
-        let n = dir.norm();
-        if !(n.is_finite() && n > 0.0) {
-            return Err(GraspError::InvalidParameter { name: "directions", reason: format!("bad direction {dir:?}") });
-        }
-        gravities.push(dir * (options.gravity / n));
-    }
     let control = run(Vector3::zeros())?;
     let mut out = PhysicsOutcome {
         translations: Vec::new(),

@@ -33,6 +33,7 @@ pub(super) fn decode(data: u128) -> Option<ContactBody> {
 }
 
 /// Filters contacts between links of the same robot.
+#[derive(Clone)]
 pub(super) struct ContactFilter {
     pub(super) robots: Vec<Arc<Robot>>,
     pub(super) self_collisions: bool,

@@ -90,12 +90,14 @@ impl std::fmt::Debug for RapierBackend {
     }
 }
 
+#[derive(Clone)]
 struct ObjectEntry {
     body: RigidBodyHandle,
     /// Carrying robot, link and the joint holding the object.
     attachment: Option<(RobotId, LinkId, ImpulseJointHandle)>,
 }
 
+#[derive(Clone)]
 struct RobotEntry {
     robot: Arc<Robot>,
     /// Per link: the rigid body carrying it and the link's pose in that body's frame.
@@ -258,6 +260,32 @@ impl PhysicsEngine for RapierBackend {
         self.last_substep = h;
         self.time += dt;
         Ok(())
+    }
+
+    /// Clones every set of the world (bodies, colliders, joints, islands, broad and narrow
+    /// phase with their contact manifolds and warm-start impulses); the copy gets a fresh
+    /// [`PhysicsPipeline`], which holds only per-step workspace.
+    fn snapshot(&self) -> Option<Self> {
+        Some(Self {
+            options: self.options.clone(),
+            gravity: self.gravity,
+            time: self.time,
+            last_substep: self.last_substep,
+            params: self.params,
+            pipeline: PhysicsPipeline::new(),
+            islands: self.islands.clone(),
+            broad_phase: self.broad_phase.clone(),
+            narrow_phase: self.narrow_phase.clone(),
+            bodies: self.bodies.clone(),
+            colliders: self.colliders.clone(),
+            impulse_joints: self.impulse_joints.clone(),
+            multibody_joints: self.multibody_joints.clone(),
+            ccd: self.ccd.clone(),
+            hooks: self.hooks.clone(),
+            objects: self.objects.clone(),
+            robots: self.robots.clone(),
+            warmstart: self.warmstart.clone(),
+        })
     }
 
     fn gravity(&self) -> Vector3<f64> {

@@ -119,9 +119,13 @@ impl RapierBackend {
             link_body.push((body, off));
         }
 
-        // Multibody joints with motors, in topological order.
+        // Multibody joints with motors, in topological order. With `independent_chains` each
+        // chain hanging from the fixed root gets its own multibody, rooted at a fixed anchor
+        // body at the root's pose.
         let (k, c) = (self.options.joint_stiffness, self.options.joint_damping);
         let mut joints = vec![None; robot.joints().len()];
+        let root_body = link_body[robot.root().0].0;
+        let mut root_taken = false;
         for &j in robot.joints_topological() {
             let joint = robot.joint(j);
             if joint.kind == JointKind::Fixed {
@@ -131,7 +135,13 @@ impl RapierBackend {
             let axis_rot = UnitQuaternion::rotation_between(&Vector3::x(), &joint.axis)
                 .unwrap_or_else(|| UnitQuaternion::from_axis_angle(&Vector3::z_axis(), PI));
             let frame2 = Isometry3::from_parts(Translation3::identity(), axis_rot);
-            let (parent_body, parent_off) = link_body[joint.parent.0];
+            let (mut parent_body, parent_off) = link_body[joint.parent.0];
+            if parent_body == root_body && self.options.independent_chains {
+                if root_taken {
+                    parent_body = self.bodies.insert(RigidBodyBuilder::fixed().pose(sr.base_pose * fk[robot.root().0]));
+                }
+                root_taken = true;
+            }
             let frame1 = parent_off * joint.origin * frame2;
             let axis = if prismatic { JointAxis::LinX } else { JointAxis::AngX };
             let locked =
@@ -166,11 +176,19 @@ impl RapierBackend {
             });
         }
 
-        // Move the multibody to the scene configuration.
-        if let Some(first) = joints.iter().flatten().next() {
-            let (mb, _) = self
+        // Move the multibodies to the scene configuration.
+        let mut multibodies = Vec::new();
+        for e in joints.iter().flatten() {
+            let link = self.multibody_joints.rigid_body_link(e.child).copied();
+            let index = link.ok_or_else(|| CoreError::Physics { reason: "multibody vanished".into() })?.multibody;
+            if !multibodies.contains(&index) {
+                multibodies.push(index);
+            }
+        }
+        for index in multibodies {
+            let mb = self
                 .multibody_joints
-                .get_mut(first.handle)
+                .get_multibody_mut(index)
                 .ok_or_else(|| CoreError::Physics { reason: "multibody vanished".into() })?;
             mb.forward_kinematics(&self.bodies, true);
             let mut assembly = Vec::with_capacity(mb.num_links());
@@ -181,14 +199,17 @@ impl RapierBackend {
             }
             let mut disp = vec![0.0; mb.ndofs()];
             for (ji, entry) in joints.iter().enumerate() {
-                if let Some(e) = entry {
-                    let link_id = self.multibody_joints.get(e.handle).map(|(_, l)| l).unwrap_or(0);
-                    disp[assembly[link_id]] = robot.joint_position(&sr.q, JointId(ji));
+                let Some(e) = entry else { continue };
+                match self.multibody_joints.rigid_body_link(e.child) {
+                    Some(link) if link.multibody == index => {
+                        disp[assembly[link.id]] = robot.joint_position(&sr.q, JointId(ji));
+                    }
+                    _ => {}
                 }
             }
-            let (mb, _) = self
+            let mb = self
                 .multibody_joints
-                .get_mut(first.handle)
+                .get_multibody_mut(index)
                 .ok_or_else(|| CoreError::Physics { reason: "multibody vanished".into() })?;
             mb.apply_displacements(&disp);
             mb.forward_kinematics(&self.bodies, true);
