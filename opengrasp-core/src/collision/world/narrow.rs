@@ -61,7 +61,48 @@ pub(super) fn distance_below(a: Placed<'_>, b: Placed<'_>, bound: f64) -> Option
             }
         }
     }
+    if let Some(d) = mesh_distance_below(a.pose, a.shape, b.pose, b.shape, bound) {
+        return d;
+    }
     distance(a.pose, a.shape, b.pose, b.shape).filter(|&d| d < bound)
+}
+
+/// [`distance`] of a triangle mesh and a shape that is not composite when it is below a
+/// finite `bound`, `Some(None)` when it is not; `None` for other pairs (and infinite bounds).
+///
+/// parry's query (`distance_composite_shape_shape`) walks the mesh's hierarchy nearest box
+/// first from an unbounded best; this is the same walk, the same triangle queries in the
+/// same frames, started from `bound`, so every subtree whose box is at least `bound` away is
+/// skipped. The value is parry's whenever it is below `bound`.
+pub(super) fn mesh_distance_below(
+    p1: &Isometry3<f64>,
+    s1: &dyn ParryShape,
+    p2: &Isometry3<f64>,
+    s2: &dyn ParryShape,
+    bound: f64,
+) -> Option<Option<f64>> {
+    use parry3d_f64::query::QueryDispatcher;
+    if bound >= f64::MAX {
+        return None;
+    }
+    // parry's dispatch: the first shape if composite, else the second with the inverse pose.
+    let pos12 = p1.inv_mul(p2);
+    let (mesh, pos, other) = match (s1.as_trimesh(), s2.as_trimesh()) {
+        (Some(m), None) if s2.as_composite_shape().is_none() => (m, pos12, s2),
+        (None, Some(m)) if s1.as_composite_shape().is_none() => (m, pos12.inverse(), s1),
+        _ => return None,
+    };
+    let aabb = other.compute_aabb(&pos);
+    let (shift, margin) = (-aabb.center().coords, aabb.half_extents());
+    let found = mesh.bvh().find_best(
+        bound,
+        |node: &parry3d_f64::partitioning::BvhNode, _| {
+            let msum = Aabb { mins: node.mins() + shift - margin, maxs: node.maxs() + shift + margin };
+            msum.distance_to_origin()
+        },
+        |part, _| query::DefaultQueryDispatcher.distance(&pos, &mesh.triangle(part), other).ok(),
+    );
+    Some(found.map(|(_, d)| d).filter(|&d| d < bound))
 }
 
 /// Exact distance (0 when overlapping), `None` for unsupported shape pairs.

@@ -260,3 +260,79 @@ fn bounded_link_distances_on_known_cases_and_bad_input() {
     assert!(matches!(world.link_distances_below_into(arm, &q, &bounds, &mut out), Err(CoreError::NonFinite { .. })));
     assert!(world.link_distances_below_into(arm, &q[..3], &vec![1.0; n], &mut out).is_err());
 }
+
+/// A non-convex triangle mesh (an open box: a floor and four walls, no lid) as parry's
+/// `TriMesh`.
+fn open_box_trimesh() -> parry3d_f64::shape::SharedShape {
+    use nalgebra::Point3;
+    let (w, h) = (0.3, 0.2);
+    let v = vec![
+        Point3::new(-w, -w, 0.0),
+        Point3::new(w, -w, 0.0),
+        Point3::new(w, w, 0.0),
+        Point3::new(-w, w, 0.0),
+        Point3::new(-w, -w, h),
+        Point3::new(w, -w, h),
+        Point3::new(w, w, h),
+        Point3::new(-w, w, h),
+    ];
+    let t = vec![
+        [0, 2, 1],
+        [0, 3, 2],
+        [0, 1, 5],
+        [0, 5, 4],
+        [1, 2, 6],
+        [1, 6, 5],
+        [2, 3, 7],
+        [2, 7, 6],
+        [3, 0, 4],
+        [3, 4, 7],
+    ];
+    parry3d_f64::shape::SharedShape::trimesh(v, t).unwrap()
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(256))]
+
+    /// The bounded mesh walk gives parry's mesh distance bit for bit when it is below the
+    /// bound and "not below" otherwise, with the mesh first or second, against a ball, a box,
+    /// a capsule, a cylinder and a convex hull, in and around the open box.
+    #[test]
+    fn bounded_mesh_distance_is_parrys_below_the_bound(
+        x in -0.6f64..0.6, y in -0.6f64..0.6, z in -0.3f64..0.6,
+        roll in -3.2f64..3.2, pitch in -3.2f64..3.2, yaw in -3.2f64..3.2,
+        kind in 0usize..5,
+        fraction in 0.0f64..2.0,
+        mesh_first in proptest::bool::ANY,
+    ) {
+        use parry3d_f64::shape::SharedShape;
+        let mesh = open_box_trimesh();
+        let other = match kind {
+            0 => SharedShape::ball(0.05),
+            1 => SharedShape::cuboid(0.04, 0.1, 0.02),
+            2 => SharedShape::capsule_z(0.1, 0.03),
+            3 => SharedShape::cylinder(0.08, 0.04),
+            _ => SharedShape::convex_hull(&[
+                nalgebra::Point3::new(0.0, 0.0, 0.0),
+                nalgebra::Point3::new(0.1, 0.0, 0.0),
+                nalgebra::Point3::new(0.0, 0.12, 0.0),
+                nalgebra::Point3::new(0.0, 0.0, 0.09),
+            ]).unwrap(),
+        };
+        let mesh_pose = Isometry3::from_parts(Translation3::new(0.1, -0.2, 0.3), UnitQuaternion::from_euler_angles(0.2, -0.1, 0.5));
+        let pose = mesh_pose * Isometry3::from_parts(Translation3::new(x, y, z), UnitQuaternion::from_euler_angles(roll, pitch, yaw));
+        let (p1, s1, p2, s2) = if mesh_first {
+            (&mesh_pose, &*mesh.0, &pose, &*other.0)
+        } else {
+            (&pose, &*other.0, &mesh_pose, &*mesh.0)
+        };
+        let plain = parry3d_f64::query::distance(p1, s1, p2, s2).unwrap();
+        let bound = plain * fraction + if fraction > 1.0 { 1e-3 } else { 0.0 };
+        let bounded = super::narrow::mesh_distance_below(p1, s1, p2, s2, bound);
+        let expected = (plain < bound).then_some(plain);
+        proptest::prop_assert_eq!(bounded.map(|d| d.map(f64::to_bits)), Some(expected.map(f64::to_bits)), "plain {} bound {}", plain, bound);
+        // Infinite bounds and pairs without a mesh are left to the plain query.
+        proptest::prop_assert_eq!(super::narrow::mesh_distance_below(p1, s1, p2, s2, f64::INFINITY), None);
+        proptest::prop_assert_eq!(super::narrow::mesh_distance_below(p1, &*other.0, p2, &*other.0, bound), None);
+    }
+}
