@@ -287,7 +287,7 @@ impl CollisionWorld {
         out.clear();
         out.extend((0..self.robots[rid].n_links()).map(&bound));
         with_scratch(|s| {
-            self.place_links(rid, q, &|l: usize| out[l] > 0.0, s);
+            self.place_links(rid, q, |l: usize| out[l] > 0.0, s);
             for item in &s.items {
                 let l = item.link.0;
                 if let Some(n) = self.item_min_distance(rid, item, out[l]) {
