@@ -8,14 +8,18 @@ use super::*;
 use crate::model::{samples, Geometry, JointKind, JointSpec, Link, RobotBuilder, Shape};
 use crate::scene::{SceneObject, StaticBody};
 
-#[test]
-fn selected_link_distances_match_the_full_query() {
-    let mut scene = Scene::new("selected");
+/// The sample seven-joint arm beside a wall, and a configuration near it.
+fn arm_beside_a_wall() -> (CollisionWorld, RobotId, [f64; 7]) {
+    let mut scene = Scene::new("arm and wall");
     let arm = scene.add_robot("arm", Arc::new(samples::seven_dof_arm().unwrap()), Isometry3::identity()).unwrap();
     let wall = Shape::at_origin(Geometry::cuboid(0.05, 1.0, 1.0));
     scene.add_body(StaticBody::new("wall", Isometry3::translation(0.6, 0.0, 0.5), vec![wall])).unwrap();
-    let world = CollisionWorld::new(&scene).unwrap();
-    let q = [0.3, 0.8, -0.2, 0.5, 0.1, 0.4, 0.0];
+    (CollisionWorld::new(&scene).unwrap(), arm, [0.3, 0.8, -0.2, 0.5, 0.1, 0.4, 0.0])
+}
+
+#[test]
+fn selected_link_distances_match_the_full_query() {
+    let (world, arm, q) = arm_beside_a_wall();
     let full = world.link_distances(arm, &q).unwrap();
     let selected: Vec<bool> = (0..full.len()).map(|l| l % 2 == 1).collect();
     let mut out = Vec::new();
@@ -231,12 +235,7 @@ proptest::proptest! {
 /// near one gets its exact distance; bad bounds are typed errors.
 #[test]
 fn bounded_link_distances_on_known_cases_and_bad_input() {
-    let mut scene = Scene::new("bounded");
-    let arm = scene.add_robot("arm", Arc::new(samples::seven_dof_arm().unwrap()), Isometry3::identity()).unwrap();
-    let wall = Shape::at_origin(Geometry::cuboid(0.05, 1.0, 1.0));
-    scene.add_body(StaticBody::new("wall", Isometry3::translation(0.6, 0.0, 0.5), vec![wall])).unwrap();
-    let world = CollisionWorld::new(&scene).unwrap();
-    let q = [0.3, 0.8, -0.2, 0.5, 0.1, 0.4, 0.0];
+    let (world, arm, q) = arm_beside_a_wall();
     let full = world.link_distances(arm, &q).unwrap();
     let n = full.len();
     let (near, &d) =
@@ -264,30 +263,19 @@ fn bounded_link_distances_on_known_cases_and_bad_input() {
 /// A non-convex triangle mesh (an open box: a floor and four walls, no lid) as parry's
 /// `TriMesh`.
 fn open_box_trimesh() -> parry3d_f64::shape::SharedShape {
-    use nalgebra::Point3;
-    let (w, h) = (0.3, 0.2);
-    let v = vec![
-        Point3::new(-w, -w, 0.0),
-        Point3::new(w, -w, 0.0),
-        Point3::new(w, w, 0.0),
-        Point3::new(-w, w, 0.0),
-        Point3::new(-w, -w, h),
-        Point3::new(w, -w, h),
-        Point3::new(w, w, h),
-        Point3::new(-w, w, h),
-    ];
-    let t = vec![
-        [0, 2, 1],
-        [0, 3, 2],
-        [0, 1, 5],
-        [0, 5, 4],
-        [1, 2, 6],
-        [1, 6, 5],
-        [2, 3, 7],
-        [2, 7, 6],
-        [3, 0, 4],
-        [3, 4, 7],
-    ];
+    // Corners 0-3 on the floor (z = 0), 4-7 above them (z = 0.2), counter-clockwise.
+    let v = (0..8)
+        .map(|k: usize| {
+            let (x, y) = [(-0.3, -0.3), (0.3, -0.3), (0.3, 0.3), (-0.3, 0.3)][k % 4];
+            nalgebra::Point3::new(x, y, if k < 4 { 0.0 } else { 0.2 })
+        })
+        .collect();
+    // The floor, then two triangles per wall.
+    let mut t = vec![[0, 2, 1], [0, 3, 2]];
+    for a in 0..4u32 {
+        let b = (a + 1) % 4;
+        t.extend([[a, b, b + 4], [a, b + 4, a + 4]]);
+    }
     parry3d_f64::shape::SharedShape::trimesh(v, t).unwrap()
 }
 
