@@ -42,10 +42,10 @@ struct Scratch {
     /// only grows, so the others are certified to the end and never evaluated again).
     active: Vec<usize>,
     active_pairs: Vec<usize>,
-    /// Models to refine by an exact query and their model times; the links selected for it,
-    /// its distances.
+    /// Models to refine by an exact query and their model times; the per-link bounds of that
+    /// query (0: not queried), its distances.
     refine: Vec<(usize, f64)>,
-    selected: Vec<bool>,
+    bounds: Vec<f64>,
     exact: Vec<f64>,
 }
 
@@ -198,17 +198,32 @@ impl SphereCertifier {
 
     /// Refines the models of `scratch.refine` by one exact distance query at the state of
     /// `scratch.full`: each gets the better of its model time and the exact one.
-    fn refine(&self, scratch: &mut Scratch, motion: &Motion<'_>, margin: f64, t: f64) -> Result<(), Stuck> {
+    ///
+    /// No distance beyond `margin + rate × remaining` is needed (it certifies the link to the
+    /// end of the motion), so the query is bounded by it, a little enlarged against rounding:
+    /// obstacles farther away are skipped before any exact query. The bounded distance is at
+    /// most the exact one, so its time is still a lower bound.
+    fn refine(
+        &self,
+        scratch: &mut Scratch,
+        motion: &Motion<'_>,
+        margin: f64,
+        t: f64,
+        remaining: f64,
+    ) -> Result<(), Stuck> {
         let Some(checker) = &self.exact else { return Err(Stuck) };
-        scratch.selected.clear();
-        scratch.selected.resize(self.robot.links().len(), false);
+        scratch.bounds.clear();
+        scratch.bounds.resize(self.robot.links().len(), 0.0);
         for &(k, _) in &scratch.refine {
-            scratch.selected[self.models[k].link.0] = true;
+            let m = &self.models[k];
+            let enough = margin + motion.rates[m.slot] * remaining * (1.0 + 1e-6) + 1e-9;
+            let b = &mut scratch.bounds[m.link.0];
+            *b = b.max(enough);
         }
-        let exact = checker.world().selected_link_distances_into(
+        let exact = checker.world().link_distances_below_into(
             self.robot_id,
             &scratch.full,
-            &scratch.selected,
+            &scratch.bounds,
             &mut scratch.exact,
         );
         for &(k, model) in &scratch.refine {
@@ -261,7 +276,7 @@ impl SphereCertifier {
             }
         }
         if !scratch.refine.is_empty() {
-            self.refine(scratch, motion, margin, t)?;
+            self.refine(scratch, motion, margin, t, remaining)?;
         }
         for a in 0..scratch.active_pairs.len() {
             let p = scratch.active_pairs[a];

@@ -231,6 +231,37 @@ impl CollisionWorld {
         self.link_distances_where(robot, q, out, |l| selected.get(l).copied().unwrap_or(false))
     }
 
+    /// `min(dₗ, bounds[l])` for every link `l`, with `dₗ` its distance of
+    /// [`link_distances_into`](Self::link_distances_into) (bit for bit the minimum of that
+    /// query and `bounds`). For callers that only need to know whether a link is nearer than
+    /// some distance (conservative advancement needs no distance beyond the one that certifies
+    /// the rest of a motion): an obstacle whose bounding box, or convex hull, is at least the
+    /// bound away is skipped without an exact query, and links with a bound ≤ 0 are neither
+    /// placed nor queried (their minimum is the bound, distances being ≥ 0).
+    ///
+    /// # Errors
+    /// [`CoreError::DimensionMismatch`] if `bounds` does not hold one value per link,
+    /// [`CoreError::NonFinite`] if one is NaN; otherwise as
+    /// [`in_collision`](Self::in_collision).
+    pub fn link_distances_below_into(
+        &self,
+        robot: RobotId,
+        q: &[f64],
+        bounds: &[f64],
+        out: &mut Vec<f64>,
+    ) -> Result<()> {
+        self.validate(robot, q)?;
+        let n = self.robots[robot.0].n_links();
+        if bounds.len() != n {
+            return Err(CoreError::DimensionMismatch { expected: n, actual: bounds.len() });
+        }
+        if bounds.iter().any(|b| b.is_nan()) {
+            return Err(CoreError::NonFinite { what: "link distance bounds".into() });
+        }
+        self.bounded_link_distances(robot.0, q, out, |l| bounds[l]);
+        Ok(())
+    }
+
     /// Exact distance of every link `l` with `wanted(l)` to everything it can hit (`+inf` for
     /// the others, which are not queried).
     fn link_distances_where(
@@ -241,11 +272,22 @@ impl CollisionWorld {
         wanted: impl Fn(usize) -> bool,
     ) -> Result<()> {
         self.validate(robot, q)?;
-        let rid = robot.0;
+        self.bounded_link_distances(robot.0, q, out, |l| if wanted(l) { f64::INFINITY } else { 0.0 });
+        for (l, d) in out.iter_mut().enumerate() {
+            if !wanted(l) {
+                *d = f64::INFINITY;
+            }
+        }
+        Ok(())
+    }
+
+    /// `out[l] = min(dₗ, bound(l))` for every link of robot `rid` at `q` (validated), placing
+    /// and querying only the links with a positive bound.
+    fn bounded_link_distances(&self, rid: usize, q: &[f64], out: &mut Vec<f64>, bound: impl Fn(usize) -> f64) {
         out.clear();
-        out.resize(self.robots[rid].n_links(), f64::INFINITY);
+        out.extend((0..self.robots[rid].n_links()).map(&bound));
         with_scratch(|s| {
-            self.place_links(rid, q, &wanted, s);
+            self.place_links(rid, q, |l: usize| out[l] > 0.0, s);
             for item in &s.items {
                 let l = item.link.0;
                 if let Some(n) = self.item_min_distance(rid, item, out[l]) {
@@ -253,6 +295,5 @@ impl CollisionWorld {
                 }
             }
         });
-        Ok(())
     }
 }

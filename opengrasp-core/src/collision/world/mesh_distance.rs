@@ -45,9 +45,9 @@ fn convex_and_mesh<'a>(s1: &dyn ParryShape, s2: &'a dyn ParryShape) -> Option<&'
     (s1.as_support_map().is_some() && s1.as_composite_shape().is_none()).then(|| s2.as_trimesh()).flatten()
 }
 
-/// The distance parry's `query::distance(p1, s1, p2, s2)` returns for a convex `s1` and a
-/// triangle mesh `s2`, when it is below `bound`; `None` when it is not (see the module docs).
-/// `None` from the outer option means the pair is not convex shape and mesh.
+/// The distance parry's `query::distance(p1, s1, p2, s2)` returns for a convex shape and a
+/// triangle mesh (either order), when it is below `bound`; `None` when it is not (see the
+/// module docs). `None` from the outer option means the pair is not convex shape and mesh.
 pub(super) fn mesh_distance_below(
     p1: &Isometry3<f64>,
     s1: &dyn ParryShape,
@@ -55,10 +55,14 @@ pub(super) fn mesh_distance_below(
     s2: &dyn ParryShape,
     bound: f64,
 ) -> Option<Option<f64>> {
-    let mesh = convex_and_mesh(s1, s2)?;
-    // parry: pos12 = p1⁻¹ p2, then the composite query with the mesh first at pos12⁻¹.
-    let pose12 = p1.inv_mul(p2).inverse();
-    Some(walk(mesh, s1, &pose12, bound))
+    // parry: pos12 = p1⁻¹ p2; the composite query with the mesh first, at pos12⁻¹ when the
+    // mesh is the second shape.
+    let pos12 = p1.inv_mul(p2);
+    if let Some(mesh) = convex_and_mesh(s1, s2) {
+        return Some(walk(mesh, s1, &pos12.inverse(), bound));
+    }
+    let mesh = convex_and_mesh(s2, s1)?;
+    Some(walk(mesh, s2, &pos12, bound))
 }
 
 /// The contact parry's `query::contact(p1, s1, p2, s2, prediction)` returns for a convex `s1`
@@ -97,7 +101,9 @@ pub(super) fn mesh_contact(
     }))
 }
 
-/// Nearest-box-first search of `mesh`'s BVH as in parry's `distance_to_shape`.
+/// Nearest-box-first search of `mesh`'s BVH as in parry's `distance_to_shape`, started from
+/// a finite `bound` instead of an unbounded best, so subtrees whose boxes are at least
+/// `bound` away are skipped too (the value below `bound` is the same).
 fn walk(mesh: &TriMesh, shape: &dyn ParryShape, pose12: &Isometry3<f64>, bound: f64) -> Option<f64> {
     let local = shape.compute_local_aabb();
     let to_shape = pose12.inverse();
@@ -105,7 +111,7 @@ fn walk(mesh: &TriMesh, shape: &dyn ParryShape, pose12: &Isometry3<f64>, bound: 
     let msum_shift = -ls_aabb2.center().coords;
     let msum_margin = ls_aabb2.half_extents();
     let best = mesh.bvh().find_best(
-        f64::MAX,
+        bound.min(f64::MAX),
         |node: &BvhNode, _| {
             let msum =
                 Aabb { mins: node.mins() + msum_shift - msum_margin, maxs: node.maxs() + msum_shift + msum_margin };

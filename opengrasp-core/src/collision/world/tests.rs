@@ -8,14 +8,18 @@ use super::*;
 use crate::model::{samples, Geometry, JointKind, JointSpec, Link, RobotBuilder, Shape};
 use crate::scene::{SceneObject, StaticBody};
 
-#[test]
-fn selected_link_distances_match_the_full_query() {
-    let mut scene = Scene::new("selected");
+/// The sample seven-joint arm beside a wall, and a configuration near it.
+fn arm_beside_a_wall() -> (CollisionWorld, RobotId, [f64; 7]) {
+    let mut scene = Scene::new("arm and wall");
     let arm = scene.add_robot("arm", Arc::new(samples::seven_dof_arm().unwrap()), Isometry3::identity()).unwrap();
     let wall = Shape::at_origin(Geometry::cuboid(0.05, 1.0, 1.0));
     scene.add_body(StaticBody::new("wall", Isometry3::translation(0.6, 0.0, 0.5), vec![wall])).unwrap();
-    let world = CollisionWorld::new(&scene).unwrap();
-    let q = [0.3, 0.8, -0.2, 0.5, 0.1, 0.4, 0.0];
+    (CollisionWorld::new(&scene).unwrap(), arm, [0.3, 0.8, -0.2, 0.5, 0.1, 0.4, 0.0])
+}
+
+#[test]
+fn selected_link_distances_match_the_full_query() {
+    let (world, arm, q) = arm_beside_a_wall();
     let full = world.link_distances(arm, &q).unwrap();
     let selected: Vec<bool> = (0..full.len()).map(|l| l % 2 == 1).collect();
     let mut out = Vec::new();
@@ -70,6 +74,12 @@ fn two_arm_robot() -> Robot {
 
 /// The two-arm robot on a rotated base near a wall, holding a box in its right hand.
 fn two_arm_world() -> (CollisionWorld, RobotId) {
+    let (scene, robot) = two_arm_scene();
+    (CollisionWorld::new(&scene).unwrap(), robot)
+}
+
+/// The scene of [`two_arm_world`].
+fn two_arm_scene() -> (Scene, RobotId) {
     let mut scene = Scene::new("two arms");
     let base =
         Isometry3::from_parts(Translation3::new(0.2, -0.1, 0.05), UnitQuaternion::from_euler_angles(0.0, 0.0, 0.7));
@@ -84,7 +94,7 @@ fn two_arm_world() -> (CollisionWorld, RobotId) {
     );
     let held = scene.add_object(held).unwrap();
     scene.attach(held, robot, "r2").unwrap();
-    (CollisionWorld::new(&scene).unwrap(), robot)
+    (scene, robot)
 }
 
 fn random_q(robot: &Robot, rng: &mut ChaCha8Rng) -> Vec<f64> {
@@ -164,4 +174,154 @@ fn single_link_distances_equal_the_full_query_bit_for_bit() {
     }
     // The six links with geometry (the right forearm with its box) are all measured.
     assert_eq!(finite, 20 * 6);
+}
+
+/// [`two_arm_world`] with a tetrahedral mesh (queried through its convex hull) and a free
+/// cylinder beside the wall.
+fn two_arm_world_with_mesh() -> (CollisionWorld, RobotId) {
+    let (mut scene, robot) = two_arm_scene();
+    let v = vec![
+        nalgebra::Point3::new(0.0, 0.0, 0.0),
+        nalgebra::Point3::new(0.4, 0.0, 0.0),
+        nalgebra::Point3::new(0.0, 0.4, 0.0),
+        nalgebra::Point3::new(0.0, 0.0, 0.4),
+    ];
+    let mesh = crate::model::TriangleMesh::new(v, vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]).unwrap();
+    let mesh = Shape::at_origin(Geometry::Mesh(Arc::new(mesh)));
+    scene.add_body(StaticBody::new("mesh", Isometry3::translation(-0.5, 0.3, 0.4), vec![mesh])).unwrap();
+    let can = Shape::at_origin(Geometry::Cylinder { radius: 0.05, length: 0.3 });
+    scene.add_object(SceneObject::new("can", Isometry3::translation(0.2, 0.6, 0.6), vec![can], 0.2)).unwrap();
+    (CollisionWorld::new(&scene).unwrap(), robot)
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+
+    /// The bounded query is bit for bit `min(distance, bound)` of the plain query, for bounds
+    /// below, around and above each link's distance, zero, negative and infinite.
+    #[test]
+    fn bounded_link_distances_are_the_minimum_of_the_plain_query_and_the_bound(
+        seed in 0u64..1_000_000,
+        kinds in proptest::collection::vec(0u8..6, 8),
+        scale in 0.0f64..2.0,
+    ) {
+        let (world, robot) = two_arm_world_with_mesh();
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let q = random_q(&world.robots[robot.0].robot, &mut rng);
+        let full = world.link_distances(robot, &q).unwrap();
+        proptest::prop_assert_eq!(full.len(), kinds.len());
+        let bounds: Vec<f64> = full
+            .iter()
+            .zip(&kinds)
+            .map(|(&d, k)| match k {
+                0 => 0.0,
+                1 => -scale,
+                2 => f64::INFINITY,
+                3 => if d.is_finite() { d * scale } else { scale },
+                4 => if d.is_finite() { d } else { 1.0 },
+                _ => scale,
+            })
+            .collect();
+        let mut out = vec![7.0; 3];
+        world.link_distances_below_into(robot, &q, &bounds, &mut out).unwrap();
+        proptest::prop_assert_eq!(out.len(), full.len());
+        for l in 0..full.len() {
+            proptest::prop_assert_eq!(out[l].to_bits(), full[l].min(bounds[l]).to_bits(), "link {} bound {}", l, bounds[l]);
+        }
+    }
+}
+
+/// The bounded query on hand-checked cases: a link far from everything keeps its bound, a
+/// near one gets its exact distance; bad bounds are typed errors.
+#[test]
+fn bounded_link_distances_on_known_cases_and_bad_input() {
+    let (world, arm, q) = arm_beside_a_wall();
+    let full = world.link_distances(arm, &q).unwrap();
+    let n = full.len();
+    let (near, &d) =
+        full.iter().enumerate().filter(|(_, d)| d.is_finite() && **d > 0.0).min_by(|a, b| a.1.total_cmp(b.1)).unwrap();
+    assert!(d > 0.0 && d < 1.0, "{d}");
+    let mut out = Vec::new();
+    // Just above the distance: exact; just below: the bound; all others unqueried (bound 0).
+    let mut bounds = vec![0.0; n];
+    bounds[near] = d + 1e-9;
+    world.link_distances_below_into(arm, &q, &bounds, &mut out).unwrap();
+    assert_eq!(out[near], d);
+    assert!(out.iter().enumerate().all(|(l, &x)| l == near || x == 0.0));
+    bounds[near] = 0.5 * d;
+    world.link_distances_below_into(arm, &q, &bounds, &mut out).unwrap();
+    assert_eq!(out[near], 0.5 * d);
+    assert!(matches!(
+        world.link_distances_below_into(arm, &q, &bounds[1..], &mut out),
+        Err(CoreError::DimensionMismatch { expected, actual }) if expected == n && actual == n - 1
+    ));
+    bounds[0] = f64::NAN;
+    assert!(matches!(world.link_distances_below_into(arm, &q, &bounds, &mut out), Err(CoreError::NonFinite { .. })));
+    assert!(world.link_distances_below_into(arm, &q[..3], &vec![1.0; n], &mut out).is_err());
+}
+
+/// A non-convex triangle mesh (an open box: a floor and four walls, no lid) as parry's
+/// `TriMesh`.
+fn open_box_trimesh() -> parry3d_f64::shape::SharedShape {
+    // Corners 0-3 on the floor (z = 0), 4-7 above them (z = 0.2), counter-clockwise.
+    let v = (0..8)
+        .map(|k: usize| {
+            let (x, y) = [(-0.3, -0.3), (0.3, -0.3), (0.3, 0.3), (-0.3, 0.3)][k % 4];
+            nalgebra::Point3::new(x, y, if k < 4 { 0.0 } else { 0.2 })
+        })
+        .collect();
+    // The floor, then two triangles per wall.
+    let mut t = vec![[0, 2, 1], [0, 3, 2]];
+    for a in 0..4u32 {
+        let b = (a + 1) % 4;
+        t.extend([[a, b, b + 4], [a, b + 4, a + 4]]);
+    }
+    parry3d_f64::shape::SharedShape::trimesh(v, t).unwrap()
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(256))]
+
+    /// The bounded mesh walk gives parry's mesh distance bit for bit when it is below the
+    /// bound and "not below" otherwise, with the mesh first or second, against a ball, a box,
+    /// a capsule, a cylinder and a convex hull, in and around the open box.
+    #[test]
+    fn bounded_mesh_distance_is_parrys_below_the_bound(
+        x in -0.6f64..0.6, y in -0.6f64..0.6, z in -0.3f64..0.6,
+        roll in -3.2f64..3.2, pitch in -3.2f64..3.2, yaw in -3.2f64..3.2,
+        kind in 0usize..5,
+        fraction in 0.0f64..2.0,
+        mesh_first in proptest::bool::ANY,
+    ) {
+        use parry3d_f64::shape::SharedShape;
+        let mesh = open_box_trimesh();
+        let other = match kind {
+            0 => SharedShape::ball(0.05),
+            1 => SharedShape::cuboid(0.04, 0.1, 0.02),
+            2 => SharedShape::capsule_z(0.1, 0.03),
+            3 => SharedShape::cylinder(0.08, 0.04),
+            _ => SharedShape::convex_hull(&[
+                nalgebra::Point3::new(0.0, 0.0, 0.0),
+                nalgebra::Point3::new(0.1, 0.0, 0.0),
+                nalgebra::Point3::new(0.0, 0.12, 0.0),
+                nalgebra::Point3::new(0.0, 0.0, 0.09),
+            ]).unwrap(),
+        };
+        let mesh_pose = Isometry3::from_parts(Translation3::new(0.1, -0.2, 0.3), UnitQuaternion::from_euler_angles(0.2, -0.1, 0.5));
+        let pose = mesh_pose * Isometry3::from_parts(Translation3::new(x, y, z), UnitQuaternion::from_euler_angles(roll, pitch, yaw));
+        let (p1, s1, p2, s2) = if mesh_first {
+            (&mesh_pose, &*mesh.0, &pose, &*other.0)
+        } else {
+            (&pose, &*other.0, &mesh_pose, &*mesh.0)
+        };
+        let plain = parry3d_f64::query::distance(p1, s1, p2, s2).unwrap();
+        let bound = plain * fraction + if fraction > 1.0 { 1e-3 } else { 0.0 };
+        let bounded = super::mesh_distance::mesh_distance_below(p1, s1, p2, s2, bound);
+        let expected = (plain < bound).then_some(plain);
+        proptest::prop_assert_eq!(bounded.map(|d| d.map(f64::to_bits)), Some(expected.map(f64::to_bits)), "plain {} bound {}", plain, bound);
+        // An infinite bound gives parry's distance; pairs without a mesh are left to the plain query.
+        let unbounded = super::mesh_distance::mesh_distance_below(p1, s1, p2, s2, f64::INFINITY);
+        proptest::prop_assert_eq!(unbounded.map(|d| d.map(f64::to_bits)), Some(Some(plain.to_bits())));
+        proptest::prop_assert_eq!(super::mesh_distance::mesh_distance_below(p1, &*other.0, p2, &*other.0, bound), None);
+    }
 }
