@@ -5,8 +5,8 @@
 //! `RrtConnectOptions::dynamic_domain` (not a number, e.g. `none`: off), a sixth
 //! `RrtConnectOptions::range`) for instruction counts (`perf stat`, `valgrind --tool=callgrind`), which stay
 //! comparable on a loaded machine where timings do not. Prints the solved runs, the states
-//! checked and the planning time (mean and median per run; the first run of a model also
-//! builds its pair tables, `SphereWorld::with_pair_tables`).
+//! checked and the planning time (mean and median per run; the model's pair tables,
+//! `SphereWorld::with_pair_tables`, are built with the model, before any timed plan).
 //!
 //! ```sh
 //! cargo run --release -p opengrasp-motion --example mbm_plan -- cage 20 10 [lanes|single [RADIUS|none [RANGE]]]

@@ -1,4 +1,5 @@
-//! Pair distance tables of the sphere model (`SphereWorld::with_pair_tables`, the default):
+//! Pair distance tables of the sphere model (`SphereWorld::with_pair_tables`, on in the
+//! layered problem-set model):
 //! a link pair whose relative pose depends on at most two joints is settled from a table of
 //! sound lower bounds over those joints' values. A table entry must never exceed the pair's
 //! sphere distance, and the verdicts and state counts must be exactly those without tables.

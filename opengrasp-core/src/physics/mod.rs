@@ -101,7 +101,8 @@ pub struct PhysicsOptions {
     /// (mass matrix, its LU factors, constraint Jacobians) then scales with a chain's dofs
     /// rather than the robot's: the grasp physics check runs about twice as fast. The
     /// trajectories are not bitwise those of one multibody (floating-point sums group
-    /// differently), so marginal grasps may end differently. Default `false`.
+    /// differently), so marginal grasps may end differently. Default `false` (the motion
+    /// benchmarks' and tactile series' records); the grasp physics check turns it on.
     pub independent_chains: bool,
 }
 

@@ -296,14 +296,16 @@ impl LoadedProblemSet {
 
     /// The set's robot as a layered sphere model for planning: the greedy cover of
     /// `options` ([`MeshCover::Greedy`]), with a coarse greedy cover of three times its
-    /// overhang budget tried first ([`SphereWorld::with_coarse_cover`]); see
-    /// [`LoadedProblemSet::sphere_model`].
+    /// overhang budget tried first ([`SphereWorld::with_coarse_cover`]) and its pair distance
+    /// tables built ([`SphereWorld::with_pair_tables`]: every problem of the set shares them);
+    /// see [`LoadedProblemSet::sphere_model`].
     ///
     /// # Errors
     /// As [`LoadedProblemSet::sphere_model`].
     pub fn layered_sphere_model(&self, options: GreedyCoverOptions) -> Result<SphereWorld> {
         let coarse = GreedyCoverOptions { max_overhang: 3.0 * options.max_overhang, ..options };
-        self.sphere_model(MeshCover::Greedy(options))?.with_coarse_cover(MeshCover::Greedy(coarse))
+        let layered = self.sphere_model(MeshCover::Greedy(options))?.with_coarse_cover(MeshCover::Greedy(coarse))?;
+        Ok(layered.with_pair_tables(true))
     }
 
     /// Problem `i` in the sphere model `model` (from [`LoadedProblemSet::sphere_model`]):

@@ -211,7 +211,7 @@ impl SphereWorld {
             cert: Certificates::default(),
             certify: true,
             tables: Vec::new(),
-            use_tables: true,
+            use_tables: false,
         };
         Ok(world.with_self_collision(SelfCollisionPairs::default()))
     }

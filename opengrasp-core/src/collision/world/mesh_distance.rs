@@ -101,9 +101,11 @@ pub(super) fn mesh_contact(
     }))
 }
 
-/// Nearest-box-first search of `mesh`'s BVH as in parry's `distance_to_shape`, started from
-/// a finite `bound` instead of an unbounded best, so subtrees whose boxes are at least
-/// `bound` away are skipped too (the value below `bound` is the same).
+/// Nearest-box-first search of `mesh`'s BVH as in parry's `distance_to_shape`, from parry's
+/// unbounded best. (Starting the search from a finite `bound` instead changed one grasp
+/// cell's mean ε by 0.6 % on the default suite: a node box's cost is not always below its
+/// triangles' GJK distances, so which nodes get pruned depends on the search order; the
+/// bound is used for the per-triangle skip only, which keeps parry's result bit for bit.)
 fn walk(mesh: &TriMesh, shape: &dyn ParryShape, pose12: &Isometry3<f64>, bound: f64) -> Option<f64> {
     let local = shape.compute_local_aabb();
     let to_shape = pose12.inverse();
@@ -111,7 +113,7 @@ fn walk(mesh: &TriMesh, shape: &dyn ParryShape, pose12: &Isometry3<f64>, bound: 
     let msum_shift = -ls_aabb2.center().coords;
     let msum_margin = ls_aabb2.half_extents();
     let best = mesh.bvh().find_best(
-        bound.min(f64::MAX),
+        f64::MAX,
         |node: &BvhNode, _| {
             let msum =
                 Aabb { mins: node.mins() + msum_shift - msum_margin, maxs: node.maxs() + msum_shift + msum_margin };

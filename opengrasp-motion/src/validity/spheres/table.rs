@@ -150,6 +150,11 @@ impl PairTable {
         self.key == other.key
     }
 
+    /// Builds the table now if it is not built yet (it is built on first use otherwise).
+    pub fn ensure_built(&self, chain: &Chain) {
+        self.cells.get_or_init(|| self.build(chain));
+    }
+
     /// The table's lower bound on the pair's sphere distance at group values `q`, if positive
     /// (the pair is clear); `None` if the table cannot tell.
     #[inline]
@@ -308,13 +313,19 @@ fn apply(m: &Mat34, p: &[f64; 3]) -> [f64; 3] {
 impl super::SphereWorld {
     /// This world settling the self-collision tests of link pairs whose relative pose depends
     /// on at most two joints from a conservative table over those joints' values first
-    /// (`true`, default; see `validity/spheres/table.rs`): a table entry only ever passes a
-    /// test whose sphere distance it bounds from below by a positive number, so the verdicts
-    /// and counts are those without tables (`false`). Tables are built on first use and
-    /// shared by the worlds of [`SphereWorld::for_problem`](super::SphereWorld::for_problem).
+    /// (`true`; see `validity/spheres/table.rs`): a table entry only ever passes a test whose
+    /// sphere distance it bounds from below by a positive number, so the verdicts and counts
+    /// are those without tables (`false`, the default of [`SphereWorld::new`]). The tables
+    /// are built here (about 0.5 s for the Panda's four wrist pairs, release build), so a
+    /// timed plan never pays for them, and shared by the worlds of
+    /// [`SphereWorld::for_problem`](super::SphereWorld::for_problem): they pay off for a
+    /// model that checks many problems (a problem set), not for a world built per plan.
     pub fn with_pair_tables(mut self, tables: bool) -> Self {
         self.use_tables = tables;
         self.settle();
+        for table in self.tables.iter().flatten() {
+            table.ensure_built(&self.chain);
+        }
         self
     }
 
