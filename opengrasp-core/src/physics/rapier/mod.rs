@@ -24,6 +24,11 @@ use crate::scene::{BodyId, ObjectId, RobotId, Scene};
 
 use colliders::{decode, ContactFilter};
 
+/// A dynamic body farther than this from the origin (m) means the simulation diverged.
+pub const DIVERGED_DISTANCE: f64 = 1.0e6;
+/// A dynamic body faster than this (m/s) means the simulation diverged.
+pub const DIVERGED_SPEED: f64 = 1.0e6;
+
 /// Rigid-body dynamics with contacts and friction on `rapier3d-f64`.
 ///
 /// Modelling choices:
@@ -138,6 +143,27 @@ struct DofState {
 }
 
 impl RapierBackend {
+    /// A typed error once the simulation has blown up: a dynamic body farther than
+    /// [`DIVERGED_DISTANCE`] from the origin, faster than [`DIVERGED_SPEED`], or not finite.
+    /// Stepping such a world further panics inside parry's broad phase (its BVH bins overflow),
+    /// so `step` stops at the first substep that leaves a body there.
+    fn check_diverged(&self) -> Result<()> {
+        for (_, body) in self.bodies.iter().filter(|(_, b)| b.is_dynamic()) {
+            let (p, v) = (body.translation(), body.linvel());
+            let (distance, speed) = (p.norm(), v.norm());
+            if !(distance <= DIVERGED_DISTANCE && speed <= DIVERGED_SPEED) {
+                return Err(CoreError::Physics {
+                    reason: format!(
+                        "the simulation diverged at t = {:.4} s: a body at {distance:e} m from the origin moving at \
+                         {speed:e} m/s",
+                        self.time
+                    ),
+                });
+            }
+        }
+        Ok(())
+    }
+
     fn robot(&self, id: RobotId) -> Result<&RobotEntry> {
         self.robots.get(id.0).ok_or(CoreError::InvalidHandle { kind: "robot", index: id.0 })
     }
@@ -256,6 +282,7 @@ impl PhysicsEngine for RapierBackend {
                 &(),
             );
             self.measure_joints();
+            self.check_diverged()?;
         }
         self.last_substep = h;
         self.time += dt;
