@@ -315,7 +315,7 @@ impl super::SphereWorld {
     /// on at most two joints from a conservative table over those joints' values first
     /// (`true`; see `validity/spheres/table.rs`): a table entry only ever passes a test whose
     /// sphere distance it bounds from below by a positive number, so the verdicts and counts
-    /// are those without tables (`false`, the default of [`SphereWorld::new`]). The tables
+    /// are those without tables (`false`, the default of [`SphereWorld::new`](super::SphereWorld::new)). The tables
     /// are built here (about 0.5 s for the Panda's four wrist pairs, release build), so a
     /// timed plan never pays for them, and shared by the worlds of
     /// [`SphereWorld::for_problem`](super::SphereWorld::for_problem): they pay off for a
