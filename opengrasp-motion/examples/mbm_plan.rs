@@ -6,7 +6,8 @@
 //! `RrtConnectOptions::range`) for instruction counts (`perf stat`, `valgrind --tool=callgrind`), which stay
 //! comparable on a loaded machine where timings do not. Prints the solved runs, the states
 //! checked and the planning time (mean and median per run; the model's pair tables,
-//! `SphereWorld::with_pair_tables`, are built with the model, before any timed plan).
+//! `SphereWorld::with_pair_tables`, are built with the model, before any timed plan; with the
+//! environment variable `NO_PAIR_TABLES` set it plans without them).
 //!
 //! ```sh
 //! cargo run --release -p opengrasp-motion --example mbm_plan -- cage 20 10 [lanes|single [RADIUS|none [RANGE]]]
@@ -34,7 +35,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Some(range) = args.next() {
         options.range = range.parse()?;
     }
-    let layered = sets[0].layered_sphere_model(GreedyCoverOptions::default())?.with_batched_checks(lanes);
+    // `NO_PAIR_TABLES=1` plans without the pair distance tables (same verdicts and states).
+    let tables = std::env::var_os("NO_PAIR_TABLES").is_none();
+    let layered = sets[0]
+        .layered_sphere_model(GreedyCoverOptions::default())?
+        .with_pair_tables(tables)
+        .with_batched_checks(lanes);
     let model = PlanningModel::Spheres(std::sync::Arc::new(layered));
     for set in sets.iter().filter(|s| s.name().contains(&filter)) {
         let instances: Vec<_> = (0..set.len()).map(|i| set.instance_with(i, &model)).collect::<Result<_, _>>()?;
