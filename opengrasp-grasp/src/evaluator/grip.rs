@@ -64,6 +64,14 @@ pub struct GripTorques {
     pub min_normal: f64,
 }
 
+impl GripTorques {
+    /// True if some joint presses (a torque above 1e-6 of its cap): a grip to command. All
+    /// torques zero means no squeeze of the finger contacts fits the cones and signs.
+    pub fn squeezes(&self) -> bool {
+        self.joints.iter().any(|j| j.torque.abs() > 1e-6 * j.limit)
+    }
+}
+
 /// Per-joint effort caps: the joint's share of its actuator's limit (see the module docs).
 fn joint_share(robot: &Robot, j: JointId, coupled: bool) -> Option<(usize, f64, f64)> {
     let (dof, factor) = robot.driving_dof(j)?;

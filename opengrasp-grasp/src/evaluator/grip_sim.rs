@@ -74,7 +74,7 @@ pub fn after_squeeze<E: PhysicsEngine + ?Sized>(
         let simulated = simulated_evaluation(&*engine, hand, robot, ObjectId(0), evaluation)?;
         let coupled = options.physics.coupled_actuators;
         let again = grip_torques(hand, object, &simulated, fraction, options.grip_margin, coupled)?;
-        if again.joints.iter().any(|j| j.torque.abs() > 1e-6 * j.limit) {
+        if again.squeezes() {
             command_grip(engine, robot, hand, &again)?;
             grip = again;
         }

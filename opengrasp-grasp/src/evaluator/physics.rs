@@ -293,7 +293,7 @@ pub fn physics_check_with<E: PhysicsEngine>(
         None => None,
     }
     // No balanced grip at all (every torque zero): the grasp is checked as without `balanced`.
-    .filter(|g| g.joints.iter().any(|j| j.torque.abs() > 1e-6 * j.limit));
+    .filter(super::grip::GripTorques::squeezes);
     let squeeze = TactileSeriesOptions {
         squeeze: options.squeeze,
         effort: if grip.is_some() { None } else { options.effort },
