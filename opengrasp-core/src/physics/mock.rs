@@ -58,6 +58,15 @@ impl MockBackend {
         self.robots.get(id.0).ok_or(CoreError::InvalidHandle { kind: "robot", index: id.0 })
     }
 
+    /// `InvalidHandle` unless `joint` is a joint of `robot` driven by one of its dofs.
+    fn driven_joint(&self, robot: RobotId, joint: crate::model::JointId) -> Result<()> {
+        let r = self.robot(robot)?;
+        if joint.0 >= r.robot.joints().len() || r.robot.driving_dof(joint).is_none() {
+            return Err(CoreError::InvalidHandle { kind: "joint", index: joint.0 });
+        }
+        Ok(())
+    }
+
     fn object(&self, id: ObjectId) -> Result<&MockObject> {
         self.objects.get(id.0).ok_or(CoreError::InvalidHandle { kind: "object", index: id.0 })
     }
@@ -161,10 +170,7 @@ impl PhysicsEngine for MockBackend {
     }
 
     fn set_joint_force_limit(&mut self, robot: RobotId, joint: crate::model::JointId, limit: f64) -> Result<()> {
-        let r = self.robot(robot)?;
-        if joint.0 >= r.robot.joints().len() || r.robot.driving_dof(joint).is_none() {
-            return Err(CoreError::InvalidHandle { kind: "joint", index: joint.0 });
-        }
+        self.driven_joint(robot, joint)?;
         super::check_force_limit(limit)
     }
 
@@ -174,10 +180,7 @@ impl PhysicsEngine for MockBackend {
         joint: crate::model::JointId,
         spring: Option<super::JointSpring>,
     ) -> Result<()> {
-        let r = self.robot(robot)?;
-        if joint.0 >= r.robot.joints().len() || r.robot.driving_dof(joint).is_none() {
-            return Err(CoreError::InvalidHandle { kind: "joint", index: joint.0 });
-        }
+        self.driven_joint(robot, joint)?;
         spring.map_or(Ok(()), |s| s.validate())
     }
 

@@ -168,6 +168,17 @@ impl RapierBackend {
         self.robots.get(id.0).ok_or(CoreError::InvalidHandle { kind: "robot", index: id.0 })
     }
 
+    /// The multibody entry of `joint` of `robot` if a dof drives it, with the error a
+    /// vanished multibody link reports; else `InvalidHandle`.
+    fn driven_joint(&self, robot: RobotId, joint: crate::model::JointId) -> Result<(JointEntry, CoreError)> {
+        let r = self.robot(robot)?;
+        let bad = || CoreError::InvalidHandle { kind: "joint", index: joint.0 };
+        match r.joints.get(joint.0).copied() {
+            Some(Some(e)) if r.robot.driving_dof(joint).is_some() => Ok((e, bad())),
+            _ => Err(bad()),
+        }
+    }
+
     fn object(&self, id: ObjectId) -> Result<&ObjectEntry> {
         self.objects.get(id.0).ok_or(CoreError::InvalidHandle { kind: "object", index: id.0 })
     }
@@ -345,12 +356,7 @@ impl PhysicsEngine for RapierBackend {
     }
 
     fn set_joint_force_limit(&mut self, robot: RobotId, joint: crate::model::JointId, limit: f64) -> Result<()> {
-        let r = self.robot(robot)?;
-        let bad = CoreError::InvalidHandle { kind: "joint", index: joint.0 };
-        let Some(Some(e)) = r.joints.get(joint.0).copied() else { return Err(bad) };
-        if r.robot.driving_dof(joint).is_none() {
-            return Err(bad);
-        }
+        let (e, bad) = self.driven_joint(robot, joint)?;
         super::check_force_limit(limit)?;
         let axis = if e.prismatic { JointAxis::LinX } else { JointAxis::AngX };
         let Some((mb, link_id)) = self.multibody_joints.get_mut(e.handle) else { return Err(bad) };
@@ -369,12 +375,7 @@ impl PhysicsEngine for RapierBackend {
         joint: crate::model::JointId,
         spring: Option<super::JointSpring>,
     ) -> Result<()> {
-        let r = self.robot(robot)?;
-        let bad = CoreError::InvalidHandle { kind: "joint", index: joint.0 };
-        let Some(Some(e)) = r.joints.get(joint.0).copied() else { return Err(bad) };
-        if r.robot.driving_dof(joint).is_none() {
-            return Err(bad);
-        }
+        let (e, bad) = self.driven_joint(robot, joint)?;
         if let Some(s) = spring {
             s.validate()?;
         }
