@@ -5,7 +5,7 @@
 //! dominates GJK on hulls of a few hundred vertices (scanned objects, lathed or lofted meshes).
 //! [`ClimbingHull`] wraps the same polyhedron (same geometry, same vertices) and answers the
 //! support query by hill climbing from a precomputed vertex: the support vertex of the centre
-//! of the query direction's cell in a cube map (6 × 8 × 8 cells), usually the answer or one
+//! of the query direction's cell in a cube map (6 × 16 × 16 cells), usually the answer or one
 //! or two edges from it; on a convex polyhedron a vertex no neighbour improves is a global
 //! maximum. The vertices within a tiny tolerance of the maximum are then searched for the one
 //! parry's linear scan would return (the largest dot product, lowest index among equals; the
@@ -22,11 +22,20 @@ use parry3d_f64::query::{PointProjection, PointQuery, Ray, RayCast, RayIntersect
 use parry3d_f64::shape::{ConvexPolyhedron, FeatureId, PolygonalFeatureMap, Shape, ShapeType, SupportMap, TypedShape};
 
 /// Cells per face edge of the direction cube map that seeds the climb.
-const CUBE_CELLS: usize = 8;
+const CUBE_CELLS: usize = 16;
 
-/// Largest plateau (near-tied vertices) searched on the vertex graph; a larger one (a finely
-/// lathed cap facing the direction) is answered by the linear scan.
-const PLATEAU_CAP: usize = 32;
+/// Largest plateau (near-tied vertices) searched on the vertex graph; a larger one is answered
+/// by the linear scan. Large enough for the cap of a finely lathed solid (64–127 segments)
+/// facing the direction, which a scan of every vertex would answer several times slower.
+const PLATEAU_CAP: usize = 128;
+
+/// Words of the stack bitset marking a plateau search's visited vertices: hulls of up to
+/// `64 × MARK_WORDS` vertices. Larger hulls search plateaus of at most
+/// [`SMALL_PLATEAU_CAP`] vertices with a list lookup instead.
+const MARK_WORDS: usize = 32;
+
+/// Plateau size searched without the bitset (hulls of more than `64 × MARK_WORDS` vertices).
+const SMALL_PLATEAU_CAP: usize = 32;
 
 /// Cube-map cell of a direction: the face of its largest component (by sign) and the cell of
 /// the other two components divided by it. `None` for a zero or non-finite direction.
@@ -149,10 +158,13 @@ impl ClimbingHull {
         if !best_dot.is_finite() {
             return linear_support_id(pts, dir);
         }
-        loop {
+        // Climb until no neighbour improves; the last pass saw every neighbour of the top.
+        let top_neighbour = loop {
             let mut moved = false;
+            let mut top = f64::NEG_INFINITY;
             for &nb in self.neighbours(best) {
                 let d = dot(nb as usize);
+                top = top.max(d);
                 if d > best_dot {
                     best = nb as usize;
                     best_dot = d;
@@ -160,30 +172,46 @@ impl ClimbingHull {
                 }
             }
             if !moved {
-                break;
+                break top;
             }
-        }
+        };
         // Near-ties (a face or edge orthogonal to `dir`): search the plateau for the largest
         // dot, lowest index, as the linear scan would pick.
         let threshold = best_dot - self.tolerance;
-        if !self.neighbours(best).iter().any(|&nb| dot(nb as usize) >= threshold) {
+        if top_neighbour < threshold {
             return best;
         }
         // The plateau's vertices in discovery order; `seen[..next]` have been expanded.
+        // Visited vertices are marked in a bitset (or, on very large hulls, looked up in
+        // `seen`, which then holds at most SMALL_PLATEAU_CAP vertices).
+        let marked = pts.len() <= 64 * MARK_WORDS;
+        let cap = if marked { PLATEAU_CAP } else { SMALL_PLATEAU_CAP };
+        let mut marks = [0u64; MARK_WORDS];
+        let mut first_visit = |v: u32, seen: &[u32]| {
+            if marked {
+                let (word, bit) = (v as usize / 64, 1u64 << (v % 64));
+                let fresh = marks[word] & bit == 0;
+                marks[word] |= bit;
+                fresh
+            } else {
+                !seen.contains(&v)
+            }
+        };
         let mut seen = [0u32; PLATEAU_CAP];
         seen[0] = best as u32;
+        first_visit(best as u32, &[]);
         let (mut len, mut next) = (1, 0);
         let (mut win, mut win_dot) = (best, best_dot);
         while next < len {
             let v = seen[next] as usize;
             next += 1;
             for &nb in self.neighbours(v) {
-                if seen[..len].contains(&nb) {
+                if !first_visit(nb, &seen[..len]) {
                     continue;
                 }
                 let d = dot(nb as usize);
                 if d >= threshold {
-                    if len == PLATEAU_CAP {
+                    if len == cap {
                         return linear_support_id(pts, dir);
                     }
                     seen[len] = nb;
@@ -302,12 +330,26 @@ mod tests {
 
     #[test]
     fn ties_pick_the_linear_scan_vertex() {
-        let poly = cylinder(48);
-        let hull = ClimbingHull::new(poly.clone());
-        for d in
-            [Vector3::z(), -Vector3::z(), Vector3::x(), Vector3::y(), Vector3::new(1.0, 1.0, 0.0), Vector3::zeros()]
-        {
-            assert_eq!(hull.support_id(&d), linear_support_id(poly.points(), &d), "direction {d:?}");
+        // Caps of 48 and 128 vertices (searched on the graph) and of 300 (beyond the plateau
+        // cap: the linear scan).
+        for n in [48, 128, 300] {
+            let poly = cylinder(n);
+            let hull = ClimbingHull::new(poly.clone());
+            let tilted = Vector3::new(1e-14, 0.0, 1.0);
+            for d in [
+                Vector3::z(),
+                -Vector3::z(),
+                Vector3::x(),
+                Vector3::y(),
+                Vector3::new(1.0, 1.0, 0.0),
+                Vector3::zeros(),
+                tilted,
+            ] {
+                assert_eq!(hull.support_id(&d), linear_support_id(poly.points(), &d), "{n} segments, {d:?}");
+            }
+            // Along the axis every cap vertex ties: the lowest index of the top cap wins.
+            assert_eq!(hull.support_id(&Vector3::z()), linear_support_id(poly.points(), &Vector3::z()));
+            assert_eq!(poly.points()[hull.support_id(&Vector3::z())].z, 0.14);
         }
     }
 
@@ -374,7 +416,7 @@ mod tests {
 
 
         #[test]
-        fn support_equals_linear_scan(x in -1.0..1.0f64, y in -1.0..1.0f64, z in -1.0..1.0f64, n in 8usize..80) {
+        fn support_equals_linear_scan(x in -1.0..1.0f64, y in -1.0..1.0f64, z in -1.0..1.0f64, n in 8usize..300) {
             let poly = cylinder(n);
             let hull = ClimbingHull::new(poly.clone());
             let d = Vector3::new(x, y, z);

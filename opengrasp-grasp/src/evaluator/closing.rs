@@ -206,7 +206,7 @@ impl GraspEvaluator {
 mod tests {
     use opengrasp_assets::{hands, objects};
 
-    use super::super::{EvaluationStatus, EvaluatorOptions, GraspEvaluator};
+    use super::super::{EvaluationStatus, EvaluatorOptions, GraspEvaluator, Worlds};
     use super::HULL_SWITCH_DISTANCE;
     use crate::planners::{GraspPlanner, GraspRequest, MedialAxisPlanner, SurfaceNormalPlanner};
 
@@ -347,7 +347,7 @@ mod tests {
                         }
                         let (pi, q_open) = ev.preshape(&candidate.preshape).unwrap();
                         let rfp = ev.data.root_from_palm[pi];
-                        ev.place(&evaluation.hand_pose, &rfp).unwrap();
+                        ev.place(&evaluation.hand_pose, &rfp, Worlds::Both).unwrap();
                         let reference = close_querying_every_link(&ev, q_open.clone());
                         let bits = |q: &[f64]| q.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
                         assert_eq!(bits(&evaluation.q), bits(&reference), "{name}, candidate {candidate:?}");

@@ -126,6 +126,17 @@ const GRAZE_DISTANCE: f64 = 0.002;
 /// Step (m) of the marching approach; thinner than any finger plus wall, so nothing tunnels.
 const MARCH_STEP: f64 = 0.003;
 
+/// The collision worlds of a [`GraspEvaluator`] a placement of the hand applies to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Worlds {
+    /// The object's convex hull only (the approach far from the object).
+    Hull,
+    /// The exact object only (the marching approach, near or non-convex steps).
+    Exact,
+    /// Both (closing reads both).
+    Both,
+}
+
 /// Grades candidate grasps of one hand on one object (see the module docs for the procedure).
 ///
 /// Deterministic: the same candidate always gives the same evaluation.
@@ -255,10 +266,16 @@ impl GraspEvaluator {
         }
     }
 
-    fn place(&mut self, palm: &Isometry3<f64>, root_from_palm: &Isometry3<f64>) -> Result<()> {
+    /// Moves the hand's palm to `palm` in the collision worlds `worlds` (only those the next
+    /// queries read: each placement redoes the hand's world boxes).
+    fn place(&mut self, palm: &Isometry3<f64>, root_from_palm: &Isometry3<f64>, worlds: Worlds) -> Result<()> {
         let base = palm * root_from_palm.inverse();
-        self.world.set_robot_base_pose(self.robot, base)?;
-        self.hull_world.set_robot_base_pose(self.robot, base)?;
+        if worlds != Worlds::Hull {
+            self.world.set_robot_base_pose(self.robot, base)?;
+        }
+        if worlds != Worlds::Exact {
+            self.hull_world.set_robot_base_pose(self.robot, base)?;
+        }
         Ok(())
     }
 
@@ -295,13 +312,15 @@ impl GraspEvaluator {
         let mut s = t.translation.vector.norm() + self.object_radius + self.hand_radius + 0.01;
         let mut touched = false;
         for _ in 0..o.max_approach_steps {
-            self.place(&at(s), &rfp)?;
+            let pose = at(s);
+            self.place(&pose, &rfp, Worlds::Hull)?;
             // The hull distance bounds the exact one from below and is cheap: use it while
             // the hand is far from the hull.
             // (The separation alone: a touching or penetrating hand gives 0, which stops the
             // approach just as the penetration depth did, without the witness-point query.)
             let mut d = self.hull_world.min_distance(self.robot, &q_open)?;
             if d <= HULL_SWITCH_DISTANCE && !self.convex {
+                self.place(&pose, &rfp, Worlds::Exact)?;
                 d = self.world.min_distance(self.robot, &q_open)?;
             }
             if d <= o.approach_tolerance {
@@ -324,7 +343,7 @@ impl GraspEvaluator {
         }
         let retraction = s + candidate.standoff.max(0.0);
         let palm = at(retraction);
-        self.place(&palm, &rfp)?;
+        self.place(&palm, &rfp, Worlds::Both)?;
         // 2. Close the fingers by conservative advancement.
         let q = self.close(q_open)?;
         // 3. Contacts in the object frame (= world frame), inward normals.
@@ -366,12 +385,12 @@ impl GraspEvaluator {
                 *s = free;
                 return Ok(false);
             }
-            self.place(&at(next), rfp)?;
+            self.place(&at(next), rfp, Worlds::Exact)?;
             if self.world.in_collision_unchecked(self.robot, q) {
                 let mut hit = next;
                 while free - hit > tolerance {
                     let mid = 0.5 * (free + hit);
-                    self.place(&at(mid), rfp)?;
+                    self.place(&at(mid), rfp, Worlds::Exact)?;
                     if self.world.in_collision_unchecked(self.robot, q) {
                         hit = mid;
                     } else {

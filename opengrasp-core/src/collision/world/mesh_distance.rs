@@ -5,9 +5,10 @@
 //! box first and runs GJK on every triangle whose box is nearer than the best distance so far.
 //! [`mesh_distance_below`] walks the same BVH with the same box costs and runs the same GJK
 //! query per triangle, but first bounds the triangle's distance from below by the distance of
-//! its bounding box to the shape's, both in the shape's frame ([`box_lower_bound`]; parry's
-//! boxes are in the mesh frame, where a rotated link's box is loose): a triangle whose
-//! bound exceeds the best distance so far (or the caller's bound) by more than
+//! its bounding box to the shape's, both in the shape's frame (parry's boxes are in the mesh
+//! frame, where a rotated link's box is loose), and by the distance of the shape's box to the
+//! triangle's plane (a triangle of a curved surface tilted away from the link);
+//! see [`TriangleBounds`]: a triangle whose bound exceeds the best distance so far (or the caller's bound) by more than
 //! [`SKIP_MARGIN`] is farther than the best, so parry's search would not take its distance
 //! either. The best distance after every triangle is thus parry's, and so are the pruning of
 //! the boxes and the result, bit for bit.
@@ -16,7 +17,7 @@
 //! the deepest contact of the triangles whose boxes meet the shape's box loosened by the
 //! prediction distance): a triangle whose bound exceeds the prediction distance has no contact.
 
-use nalgebra::{Isometry3, Vector3};
+use nalgebra::{Isometry3, Matrix3, Point3, Vector3};
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::bounding_volume::BoundingVolume;
 use parry3d_f64::partitioning::BvhNode;
@@ -27,16 +28,67 @@ use parry3d_f64::shape::{Shape as ParryShape, TriMesh, Triangle};
 /// far above the rounding of the bound and of GJK's distance (≈ 1e-16 m at grasp scales).
 pub(super) const SKIP_MARGIN: f64 = 1e-10;
 
-/// Lower bound of the distance between `tri` (in the mesh frame) and a shape inside the box
-/// `local` of its own frame, `to_shape` mapping the mesh frame to the shape's: the distance
-/// between that box and the triangle's bounding box in the shape's frame. Unlike parry's
-/// test of the shape's box in the mesh frame, neither box is loosened by a rotation.
-pub(super) fn box_lower_bound(tri: &Triangle, local: &Aabb, to_shape: &Isometry3<f64>) -> f64 {
-    let (a, b, c) = (to_shape * tri.a, to_shape * tri.b, to_shape * tri.c);
-    let lo = a.coords.inf(&b.coords).inf(&c.coords);
-    let hi = a.coords.sup(&b.coords).sup(&c.coords);
-    let gap = (local.mins.coords - hi).sup(&(lo - local.maxs.coords)).sup(&Vector3::zeros());
-    gap.norm()
+/// Lower bounds of the distance between the triangles of a mesh and a shape inside the box
+/// `local` of the shape's own frame, the mesh placed by `to_shape` in that frame (see
+/// [`TriangleBounds::exceeds`]). Built once per query: the rotation as a matrix (cheaper per
+/// triangle than the quaternion) and the shape's box in the mesh frame.
+pub(super) struct TriangleBounds {
+    local: Aabb,
+    rot: Matrix3<f64>,
+    shift: Vector3<f64>,
+    /// The box centre in the mesh frame.
+    centre: Vector3<f64>,
+    /// The box's half axes (half extent times axis) in the mesh frame.
+    axes: [Vector3<f64>; 3],
+}
+
+impl TriangleBounds {
+    /// Bounds for a shape inside `local` (its frame) and a mesh mapped into that frame by
+    /// `to_shape`.
+    pub(super) fn new(local: Aabb, to_shape: &Isometry3<f64>) -> Self {
+        let rot = to_shape.rotation.to_rotation_matrix().into_inner();
+        let shift = to_shape.translation.vector;
+        // The inverse map: x_mesh = rotᵀ (x_shape − shift).
+        let centre = rot.tr_mul(&(local.center().coords - shift));
+        let h = local.half_extents();
+        let axes = [0, 1, 2].map(|i| rot.row(i).transpose() * h[i]);
+        Self { local, rot, shift, centre, axes }
+    }
+
+    /// The distance between the shape's box and the triangle's bounding box, both in the
+    /// shape's frame (unlike parry's test of the shape's box in the mesh frame, neither box
+    /// is loosened by a rotation).
+    pub(super) fn box_gap(&self, tri: &Triangle) -> f64 {
+        let (a, b, c) = (self.map(&tri.a), self.map(&tri.b), self.map(&tri.c));
+        let lo = a.inf(&b).inf(&c);
+        let hi = a.sup(&b).sup(&c);
+        let gap = (self.local.mins.coords - hi).sup(&(lo - self.local.maxs.coords)).sup(&Vector3::zeros());
+        gap.norm()
+    }
+
+    /// The distance between the shape's box and the triangle's plane when the box lies
+    /// entirely on one side of it (0 otherwise): `|n·(c − a)| − Σᵢ |n·hᵢ|` for the unit normal
+    /// `n`, the box centre `c` and half axes `hᵢ`. 0 for a degenerate triangle.
+    pub(super) fn plane_gap(&self, tri: &Triangle) -> f64 {
+        let n = (tri.b - tri.a).cross(&(tri.c - tri.a));
+        let len = n.norm();
+        if len == 0.0 || !len.is_finite() {
+            return 0.0;
+        }
+        let reach: f64 = self.axes.iter().map(|h| n.dot(h).abs()).sum();
+        ((n.dot(&(self.centre - tri.a.coords)).abs() - reach) / len).max(0.0)
+    }
+
+    /// True if the triangle is certainly farther than `threshold` + [`SKIP_MARGIN`] from the
+    /// shape: its box gap or its plane gap (both lower bounds of the distance) exceeds that.
+    pub(super) fn exceeds(&self, tri: &Triangle, threshold: f64) -> bool {
+        let limit = threshold + SKIP_MARGIN;
+        self.box_gap(tri) > limit || self.plane_gap(tri) > limit
+    }
+
+    fn map(&self, p: &Point3<f64>) -> Vector3<f64> {
+        self.rot * p.coords + self.shift
+    }
 }
 
 /// `s2`'s triangle mesh if `s1` is a convex (support-map, not composite) shape, the pairs
@@ -80,12 +132,12 @@ pub(super) fn mesh_contact(
     // flipped back and moved to the world frame.
     let pos12 = p1.inv_mul(p2);
     let pose12 = pos12.inverse();
-    let local = s1.compute_local_aabb();
+    let bounds = TriangleBounds::new(s1.compute_local_aabb(), &pos12);
     let ls_aabb2 = s1.compute_aabb(&pose12).loosened(prediction);
     let mut best: Option<Contact> = None;
     for part in mesh.bvh().intersect_aabb(&ls_aabb2) {
         let tri = mesh.triangle(part);
-        if box_lower_bound(&tri, &local, &pos12) > prediction + SKIP_MARGIN {
+        if bounds.exceeds(&tri, prediction) {
             continue;
         }
         if let Ok(Some(c)) = DefaultQueryDispatcher.contact(&pose12, &tri, s1, prediction) {
@@ -107,8 +159,7 @@ pub(super) fn mesh_contact(
 /// triangles' GJK distances, so which nodes get pruned depends on the search order; the
 /// bound is used for the per-triangle skip only, which keeps parry's result bit for bit.)
 fn walk(mesh: &TriMesh, shape: &dyn ParryShape, pose12: &Isometry3<f64>, bound: f64) -> Option<f64> {
-    let local = shape.compute_local_aabb();
-    let to_shape = pose12.inverse();
+    let bounds = TriangleBounds::new(shape.compute_local_aabb(), &pose12.inverse());
     let ls_aabb2 = shape.compute_aabb(pose12);
     let msum_shift = -ls_aabb2.center().coords;
     let msum_margin = ls_aabb2.half_extents();
@@ -122,7 +173,7 @@ fn walk(mesh: &TriMesh, shape: &dyn ParryShape, pose12: &Isometry3<f64>, bound: 
         |part, best| {
             let tri = mesh.triangle(part);
             let threshold = best.min(bound);
-            if threshold < f64::MAX && box_lower_bound(&tri, &local, &to_shape) > threshold + SKIP_MARGIN {
+            if threshold < f64::MAX && bounds.exceeds(&tri, threshold) {
                 return None;
             }
             DefaultQueryDispatcher.distance(pose12, &tri, shape).ok()
@@ -135,7 +186,6 @@ fn walk(mesh: &TriMesh, shape: &dyn ParryShape, pose12: &Isometry3<f64>, bound: 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::Point3;
     use parry3d_f64::query;
     use parry3d_f64::shape::{Ball, Cuboid};
     use proptest::prelude::*;
@@ -171,17 +221,41 @@ mod tests {
     fn box_bound_is_the_gap_in_the_shape_frame() {
         let tri = Triangle::new(Point3::origin(), Point3::new(1.0, 0.0, 0.0), Point3::new(0.0, 1.0, 0.0));
         let local = Cuboid::new(Vector3::new(0.1, 0.2, 0.3)).local_aabb();
+        let gap = |at: Isometry3<f64>| TriangleBounds::new(local, &at.inverse()).box_gap(&tri);
         // Shape centred 0.5 above the triangle's corner (1, 0, 0) and 0.4 beyond it along x:
         // gaps 0.4 − 0.1 along x and 0.5 − 0.3 along z.
-        let at = Isometry3::translation(1.4, 0.0, 0.5);
         let expected = (0.3f64 * 0.3 + 0.2 * 0.2).sqrt();
-        assert!((box_lower_bound(&tri, &local, &at.inverse()) - expected).abs() < 1e-15);
+        assert!((gap(Isometry3::translation(1.4, 0.0, 0.5)) - expected).abs() < 1e-15);
         // The same shape turned 90° about z: its 0.2 half extent now lies along x.
         let turned = Isometry3::new(Vector3::new(1.4, 0.0, 0.5), Vector3::new(0.0, 0.0, std::f64::consts::FRAC_PI_2));
         let expected = (0.2f64 * 0.2 + 0.2 * 0.2).sqrt();
-        assert!((box_lower_bound(&tri, &local, &turned.inverse()) - expected).abs() < 1e-12);
+        assert!((gap(turned) - expected).abs() < 1e-12);
         // Overlapping boxes bound nothing.
-        assert_eq!(box_lower_bound(&tri, &local, &Isometry3::translation(0.2, 0.2, 0.1).inverse()), 0.0);
+        assert_eq!(gap(Isometry3::translation(0.2, 0.2, 0.1)), 0.0);
+    }
+
+    #[test]
+    fn plane_bound_is_the_gap_to_the_triangle_plane() {
+        // The triangle x + y + z = 1 (unit normal (1, 1, 1)/√3) and a cube of half side 0.1.
+        let tri = Triangle::new(Point3::new(1.0, 0.0, 0.0), Point3::new(0.0, 1.0, 0.0), Point3::new(0.0, 0.0, 1.0));
+        let local = Cuboid::new(Vector3::repeat(0.1)).local_aabb();
+        let gap = |at: Isometry3<f64>| TriangleBounds::new(local, &at.inverse()).plane_gap(&tri);
+        // Cube centred at the origin: centre 1/√3 from the plane, the corner (0.1, 0.1, 0.1)
+        // reaches 0.3/√3 towards it.
+        let expected = 0.7 / 3f64.sqrt();
+        assert!((gap(Isometry3::identity()) - expected).abs() < 1e-15);
+        // Beyond the plane, centre at (1, 1, 1): 2/√3 from it, the same reach.
+        assert!((gap(Isometry3::translation(1.0, 1.0, 1.0)) - 1.7 / 3f64.sqrt()).abs() < 1e-15);
+        // Turned so that a face faces the plane: the reach is the half side 0.1 (rotation
+        // taking x to (1, 1, 1)/√3), centre still 1/√3 away.
+        let n = Vector3::new(1.0, 1.0, 1.0).normalize();
+        let turn = nalgebra::UnitQuaternion::rotation_between(&Vector3::x(), &n).unwrap();
+        let turned = Isometry3::from_parts(nalgebra::Translation3::identity(), turn);
+        assert!((gap(turned) - (1.0 / 3f64.sqrt() - 0.1)).abs() < 1e-15);
+        // A cube cut by the plane, and a degenerate triangle, bound nothing.
+        assert_eq!(gap(Isometry3::translation(0.3, 0.3, 0.3)), 0.0);
+        let flat = Triangle::new(Point3::origin(), Point3::new(1.0, 0.0, 0.0), Point3::new(2.0, 0.0, 0.0));
+        assert_eq!(TriangleBounds::new(local, &Isometry3::translation(0.0, 5.0, 0.0)).plane_gap(&flat), 0.0);
     }
 
     proptest! {
@@ -199,6 +273,12 @@ mod tests {
             let cuboid = Cuboid::new(Vector3::new(hx, 0.01, 0.004));
             let ball = Ball::new(hx);
             for shape in [&cuboid as &dyn ParryShape, &ball as &dyn ParryShape] {
+                // Both bounds are below every triangle's distance.
+                let bounds = TriangleBounds::new(shape.compute_local_aabb(), &pose.inv_mul(&mesh_pose));
+                for tri in mesh.triangles() {
+                    let d = query::distance(&mesh_pose, &tri, &pose, shape).unwrap();
+                    prop_assert!(bounds.box_gap(&tri) <= d + 1e-12 && bounds.plane_gap(&tri) <= d + 1e-12);
+                }
                 let reference = query::distance(&pose, shape, &mesh_pose, &mesh).unwrap();
                 let all = mesh_distance_below(&pose, shape, &mesh_pose, &mesh, f64::INFINITY).unwrap();
                 prop_assert_eq!(all.map(f64::to_bits), Some(reference.to_bits()));

@@ -79,6 +79,9 @@ struct RobotEntry {
     /// World pose and AABB of each part at `(base_pose, q)`, for use as an obstacle of other
     /// robots.
     world: Vec<(Isometry3<f64>, Aabb)>,
+    /// Link poses in the base frame at `q` (forward kinematics), kept so that moving the base
+    /// alone (a floating hand placed at many poses) does not redo the kinematics.
+    link_poses: Vec<Isometry3<f64>>,
 }
 
 impl RobotEntry {
@@ -102,11 +105,18 @@ impl RobotEntry {
         }
     }
 
-    fn update_world(&mut self, link_poses: &mut Vec<Isometry3<f64>>) {
-        forward_kinematics_into(&self.robot, &self.q, link_poses);
+    /// Recomputes the link poses at `q` and the parts' world poses and boxes.
+    fn update_world(&mut self) {
+        forward_kinematics_into(&self.robot, &self.q, &mut self.link_poses);
+        self.place_world();
+    }
+
+    /// Recomputes the parts' world poses and boxes from `base_pose` and the stored link poses
+    /// (all that changes when only the base moves).
+    fn place_world(&mut self) {
         self.world.clear();
         for (p, l) in self.parts.iter().zip(&self.part_link) {
-            let pose = self.base_pose * link_poses[l.0] * p.local;
+            let pose = self.base_pose * self.link_poses[l.0] * p.local;
             self.world.push((pose, p.shape.compute_aabb(&pose)));
         }
     }
@@ -252,7 +262,6 @@ impl CollisionWorld {
             objects.push(entry);
         }
         let mut robots = Vec::with_capacity(scene.robots().len());
-        let mut link_poses = Vec::new();
         for r in scene.robots() {
             let robot = r.robot.clone();
             let n = robot.links().len();
@@ -283,9 +292,10 @@ impl CollisionWorld {
                 allowed,
                 self_pairs: Vec::new(),
                 world: Vec::new(),
+                link_poses: Vec::new(),
             };
             entry.rebuild_self_pairs();
-            entry.update_world(&mut link_poses);
+            entry.update_world();
             robots.push(entry);
         }
         let body_poses = scene.bodies().iter().map(|b| b.pose).collect();
@@ -367,10 +377,9 @@ impl CollisionWorld {
     pub fn set_robot_base_pose(&mut self, robot: RobotId, pose: Isometry3<f64>) -> Result<()> {
         self.robot_entry(robot)?;
         crate::error::ensure_finite_pose("robot base pose", &pose)?;
-        let mut buf = Vec::new();
         let r = &mut self.robots[robot.0];
         r.base_pose = pose;
-        r.update_world(&mut buf);
+        r.place_world();
         self.update_attached(robot);
         Ok(())
     }
@@ -383,11 +392,10 @@ impl CollisionWorld {
     /// [`CoreError::InvalidHandle`] or the errors of [`Robot::validate_configuration`].
     pub fn set_robot_configuration(&mut self, robot: RobotId, q: &[f64]) -> Result<()> {
         self.robot_entry(robot)?.robot.validate_configuration(q)?;
-        let mut buf = Vec::new();
         let r = &mut self.robots[robot.0];
         r.q.clear();
         r.q.extend_from_slice(q);
-        r.update_world(&mut buf);
+        r.update_world();
         self.update_attached(robot);
         Ok(())
     }
@@ -512,11 +520,10 @@ impl CollisionWorld {
                 o.attached = Some(AttachInfo { robot: a.robot, link: a.link, offset: a.offset, touch });
             }
         }
-        let mut buf = Vec::new();
         for (r, sr) in self.robots.iter_mut().zip(scene.robots()) {
             r.base_pose = sr.base_pose;
             r.q.clone_from(&sr.q);
-            r.update_world(&mut buf);
+            r.update_world();
         }
         for r in 0..self.robots.len() {
             self.update_attached(RobotId(r));
