@@ -135,26 +135,14 @@ impl<'a> SegmentCheck<'a> {
     ///   its tolerance; and its steps (`min_i d_i / B_i` over the moving links) are at least
     ///   `m / max_i B_i` long, so it reaches the end within `max_queries − 2` queries and
     ///   accepts.
-    fn decided(&self, a: &[f64], b: &[f64]) -> Option<bool> {
+    fn decided(&self, a: &[f64], b: &[f64]) -> Option<Verdict> {
         let certifier = self.certifier?;
         let bound = self.checker.motion_bound()?;
         if !segment_probe(|q| self.checker.is_valid(q), a, b, self.options.planning_step, PROBE_STATES) {
-            return Some(false);
+            return Some(Verdict::Rejected);
         }
+        let margin = self.margin(a, b)?;
         let tolerance = self.ccd.tolerance.max(0.0);
-        let dq: Vec<f64> = a.iter().zip(b).map(|(x, y)| y - x).collect();
-        let fastest = (0..bound.links().len()).map(|i| bound.bound(i, &dq)).fold(0.0, f64::max);
-        let margin = if self.options.certify {
-            // A long fast motion needs a margin above the tolerance for the continuous
-            // validator's steps (at least margin / fastest) to fit its query budget.
-            let budget = self.ccd.max_queries as f64 - 3.0;
-            if budget <= 0.0 {
-                return None;
-            }
-            tolerance.max(fastest / budget) + CERTIFIER_SLACK
-        } else {
-            tolerance + CERTIFIER_SLACK
-        };
         // What no group joint moves is the same at every state: decide it once, at the first
         // segment's start (a valid state clears its fixed self pairs).
         let static_clear = self.static_clear.get().unwrap_or_else(|| {
@@ -169,7 +157,7 @@ impl<'a> SegmentCheck<'a> {
             return None;
         }
         match certifier.certify(a, b, bound, margin, CERTIFIER_STEPS) {
-            Certificate::Free => Some(true),
+            Certificate::Free => Some(Verdict::Certified(margin)),
             Certificate::Unknown { near: Some(t) } if self.options.certify => {
                 // The collision, if any, is at or just after `t`: look at `t` and the next
                 // few states a planning step apart.
@@ -180,7 +168,7 @@ impl<'a> SegmentCheck<'a> {
                     interpolate_into(a, b, s, &mut q);
                     self.checker.residual_valid(&q) == Some(true) && !self.checker.is_valid(&q)
                 });
-                environment_hit.then_some(false)
+                environment_hit.then_some(Verdict::Rejected)
             }
             Certificate::Unknown { .. } => None,
         }
@@ -203,24 +191,89 @@ impl<'a> SegmentCheck<'a> {
     ///
     /// A segment the certifier decides ([`SegmentCheck::decided`]) is not checked further:
     /// its decision is the verdict of the three validators.
-    fn ok(&self, a: &[f64], b: &[f64]) -> bool {
+    fn check(&self, a: &[f64], b: &[f64]) -> Verdict {
         if let Some(verdict) = self.decided(a, b) {
             return verdict;
         }
-        if !segment_valid_discrete(self.checker, a, b, self.options.planning_step) {
-            return false;
+        let accepted = segment_valid_discrete(self.checker, a, b, self.options.planning_step)
+            && match if self.options.certify { segment_valid_continuous(self.checker, a, b, &self.ccd) } else { None } {
+                Some(false) => false,
+                Some(true) => segment_valid_discrete_by(
+                    |q| self.checker.residual_valid(q).unwrap_or_else(|| self.checker.is_valid(q)),
+                    a,
+                    b,
+                    self.options.step,
+                ),
+                None => segment_valid_discrete(self.checker, a, b, self.options.step),
+            };
+        if accepted {
+            Verdict::Accepted
+        } else {
+            Verdict::Rejected
         }
-        let continuous =
-            if self.options.certify { segment_valid_continuous(self.checker, a, b, &self.ccd) } else { None };
-        match continuous {
-            Some(false) => false,
-            Some(true) => segment_valid_discrete_by(
-                |q| self.checker.residual_valid(q).unwrap_or_else(|| self.checker.is_valid(q)),
-                a,
-                b,
-                self.options.step,
-            ),
-            None => segment_valid_discrete(self.checker, a, b, self.options.step),
+    }
+
+    /// Whether `a → b` passes the three validators ([`SegmentCheck::check`]).
+    fn ok(&self, a: &[f64], b: &[f64]) -> bool {
+        self.check(a, b) != Verdict::Rejected
+    }
+
+    /// [`SegmentCheck::check`] of `a → b`, a piece of a segment the certifier proved free with
+    /// margin `parent` (`None`: not proven).
+    ///
+    /// A certificate is a statement about states (every state of the segment keeps the moving
+    /// links `parent` from the obstacles and the moving pairs `parent` apart), so it holds for
+    /// every piece of the segment; and the margin a piece needs is at most its segment's (the
+    /// speed bounds scale with the length). So a piece whose margin is at most `parent` gets
+    /// the parent's certificate without any query: the certifier's verdict on it, had it
+    /// been asked, is the validators' verdict, acceptance (the piece's end points lie on the
+    /// segment up to the rounding of an interpolation, ~1e-16 rad, far within
+    /// [`CERTIFIER_SLACK`]).
+    fn check_piece(&self, parent: Option<f64>, a: &[f64], b: &[f64]) -> Verdict {
+        match (parent, self.margin(a, b)) {
+            (Some(proven), Some(needed)) if needed <= proven => Verdict::Certified(proven),
+            _ => self.check(a, b),
+        }
+    }
+
+    /// The margin the certifier must prove on `a → b` for its proof to imply the verdict of
+    /// every validator (see [`SegmentCheck::decided`]), `None` if no margin does (no motion
+    /// bound, or a continuous query budget under 4).
+    fn margin(&self, a: &[f64], b: &[f64]) -> Option<f64> {
+        let bound = self.checker.motion_bound()?;
+        let tolerance = self.ccd.tolerance.max(0.0);
+        if !self.options.certify {
+            return Some(tolerance + CERTIFIER_SLACK);
+        }
+        // A long fast motion needs a margin above the tolerance for the continuous
+        // validator's steps (at least margin / fastest) to fit its query budget.
+        let budget = self.ccd.max_queries as f64 - 3.0;
+        if budget <= 0.0 {
+            return None;
+        }
+        let dq: Vec<f64> = a.iter().zip(b).map(|(x, y)| y - x).collect();
+        let fastest = (0..bound.links().len()).map(|i| bound.bound(i, &dq)).fold(0.0, f64::max);
+        Some(tolerance.max(fastest / budget) + CERTIFIER_SLACK)
+    }
+}
+
+/// The verdict of [`SegmentCheck::check`] on a segment.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Verdict {
+    /// A validator rejects the segment.
+    Rejected,
+    /// Every validator accepts it (checked exactly).
+    Accepted,
+    /// Every validator accepts it: the certifier proved it free with this margin.
+    Certified(f64),
+}
+
+impl Verdict {
+    /// The proven margin, if any.
+    fn margin(self) -> Option<f64> {
+        match self {
+            Verdict::Certified(m) => Some(m),
+            _ => None,
         }
     }
 }
@@ -323,6 +376,8 @@ pub fn shortcut_with(
 ) -> (Vec<Vec<f64>>, ShortcutStats) {
     let check = SegmentCheck::new(checker, certifier, options);
     let mut path: Vec<Vec<f64>> = path.to_vec();
+    // Per segment of `path`: the margin the certifier proved it free with, if it did.
+    let mut proven: Vec<Option<f64>> = vec![None; path.len().saturating_sub(1)];
     let mut stats = ShortcutStats::default();
     let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
     for _ in 0..options.iterations {
@@ -361,8 +416,18 @@ pub fn shortcut_with(
             continue;
         }
         // The partial segments path[i1] → p1 and p2 → path[i2 + 1] lie on old segments but are
-        // sampled on a different grid: check them as well.
-        if !check.ok(&p1, &p2) || !check.ok(&path[i1], &p1) || !check.ok(&p2, &path[i2 + 1]) {
+        // sampled on a different grid: check them as well (pieces of certified segments are
+        // certified already).
+        let middle = check.check(&p1, &p2);
+        if middle == Verdict::Rejected {
+            continue;
+        }
+        let head = check.check_piece(proven[i1], &path[i1], &p1);
+        if head == Verdict::Rejected {
+            continue;
+        }
+        let tail = check.check_piece(proven[i2], &p2, &path[i2 + 1]);
+        if tail == Verdict::Rejected {
             continue;
         }
         let mut next = Vec::with_capacity(path.len());
@@ -370,8 +435,11 @@ pub fn shortcut_with(
         next.push(p1);
         next.push(p2);
         next.extend_from_slice(&path[i2 + 1..]);
-        next.dedup_by(|a, b| distance(a, b) < 1e-12);
-        path = next;
+        let mut next_proven = Vec::with_capacity(next.len());
+        next_proven.extend_from_slice(&proven[..i1]);
+        next_proven.extend([head.margin(), middle.margin(), tail.margin()]);
+        next_proven.extend_from_slice(&proven[i2 + 1..]);
+        (path, proven) = dedup(next, next_proven);
         stats.accepted += 1;
     }
     // Vertex pruning: drop waypoints whose neighbours can be joined directly. Random shortcuts
@@ -387,4 +455,25 @@ pub fn shortcut_with(
         }
     }
     (path, stats)
+}
+
+/// Drops every waypoint within 1e-12 of the one kept before it, with `proven` (per segment):
+/// the segment into a dropped waypoint goes, and the one out of it becomes not proven (it now
+/// starts at the kept waypoint).
+fn dedup(path: Vec<Vec<f64>>, proven: Vec<Option<f64>>) -> (Vec<Vec<f64>>, Vec<Option<f64>>) {
+    let mut out: Vec<Vec<f64>> = Vec::with_capacity(path.len());
+    let mut out_proven: Vec<Option<f64>> = Vec::with_capacity(proven.len());
+    let mut moved = false;
+    for (k, q) in path.into_iter().enumerate() {
+        if out.last().is_some_and(|last| distance(last, &q) < 1e-12) {
+            moved = true;
+            continue;
+        }
+        if k > 0 {
+            out_proven.push(if moved { None } else { proven[k - 1] });
+        }
+        moved = false;
+        out.push(q);
+    }
+    (out, out_proven)
 }
