@@ -77,6 +77,12 @@ pub struct ShortcutStats {
 /// Advancement steps a [`SegmentCertifier`] may take per segment before the exact checks run.
 const CERTIFIER_STEPS: usize = 1000;
 
+/// Advancement steps of the first try: a proof still running after them is mostly a motion
+/// crawling towards a contact (advancement slows down geometrically there), which the
+/// planning-step check rejects for less; only a motion that passes it gets the rest of
+/// [`CERTIFIER_STEPS`].
+const FIRST_STEPS: usize = 100;
+
 /// States of the exact planning-step check tried before the certifier (the first ones of its
 /// coarse-to-fine order: the end state, the middle, the quarters): cheap rejections of
 /// segments that cross an obstacle.
@@ -118,14 +124,15 @@ impl<'a> SegmentCheck<'a> {
         Self { checker, certifier, static_clear: std::cell::Cell::new(None), options: *options, ccd }
     }
 
-    /// The verdict of [`SegmentCheck::ok`] when the certifier decides it, `None` otherwise:
+    /// The verdict of [`SegmentCheck::check`] when the certifier decides it, [`Decision::Open`]
+    /// otherwise:
     ///
-    /// - `Some(false)` if one of the first [`PROBE_STATES`] states of the planning-step
+    /// - `Rejected` if one of the first [`PROBE_STATES`] states of the planning-step
     ///   check is invalid (that check would reject it), or, when the continuous validator runs,
     ///   if the state where the certifier got stuck or one of the next [`STUCK_PROBES`] − 1
     ///   states a strict step apart collides with the environment and not with the robot
     ///   itself (conservative advancement cannot pass an environment collision);
-    /// - `Some(true)` if the certifier proves `a → b` free with a margin that makes every
+    /// - `Certified(m)` if the certifier proves `a → b` free with a margin that makes every
     ///   exact validator accept it: every state is collision-free, so both discrete checks
     ///   (and the strict check's residual) accept; every link the group moves stays at least
     ///   `m + slack` from the obstacles, with `m` the larger of the tolerance and
@@ -135,13 +142,19 @@ impl<'a> SegmentCheck<'a> {
     ///   its tolerance; and its steps (`min_i d_i / B_i` over the moving links) are at least
     ///   `m / max_i B_i` long, so it reaches the end within `max_queries − 2` queries and
     ///   accepts.
-    fn decided(&self, a: &[f64], b: &[f64]) -> Option<Verdict> {
-        let certifier = self.certifier?;
-        let bound = self.checker.motion_bound()?;
+    ///
+    /// A proof still advancing after [`FIRST_STEPS`] steps runs on (to [`CERTIFIER_STEPS`])
+    /// only if the whole planning-step check accepts the segment (`Rejected` otherwise; the
+    /// exact checks do not repeat it after an open decision).
+    fn decided(&self, a: &[f64], b: &[f64]) -> Decision {
+        let open = Decision::Open { coarse_passed: false };
+        let (Some(certifier), Some(bound)) = (self.certifier, self.checker.motion_bound()) else {
+            return open;
+        };
         if !segment_probe(|q| self.checker.is_valid(q), a, b, self.options.planning_step, PROBE_STATES) {
-            return Some(Verdict::Rejected);
+            return Decision::Decided(Verdict::Rejected);
         }
-        let margin = self.margin(a, b)?;
+        let Some(margin) = self.margin(a, b) else { return open };
         let tolerance = self.ccd.tolerance.max(0.0);
         // What no group joint moves is the same at every state: decide it once, at the first
         // segment's start (a valid state clears its fixed self pairs).
@@ -154,24 +167,39 @@ impl<'a> SegmentCheck<'a> {
             clear
         });
         if !static_clear {
-            return None;
+            return open;
         }
-        match certifier.certify(a, b, bound, margin, CERTIFIER_STEPS) {
-            Certificate::Free => Some(Verdict::Certified(margin)),
-            Certificate::Unknown { near: Some(t) } if self.options.certify => {
-                // The collision, if any, is at or just after `t`: look at `t` and the next
-                // few states a planning step apart.
-                let len = distance(a, b);
-                let dt = if len > 0.0 { self.options.step / len } else { 1.0 };
-                let mut q = Vec::with_capacity(a.len());
-                let environment_hit = (0..STUCK_PROBES).map(|k| t + k as f64 * dt).take_while(|&s| s <= 1.0).any(|s| {
-                    interpolate_into(a, b, s, &mut q);
-                    self.checker.residual_valid(&q) == Some(true) && !self.checker.is_valid(&q)
-                });
-                environment_hit.then_some(Verdict::Rejected)
+        let mut coarse_passed = false;
+        let certificate = match certifier.certify(a, b, bound, margin, FIRST_STEPS) {
+            Certificate::Unknown { exhausted: true, .. } => {
+                if !segment_valid_discrete(self.checker, a, b, self.options.planning_step) {
+                    return Decision::Decided(Verdict::Rejected);
+                }
+                coarse_passed = true;
+                certifier.certify(a, b, bound, margin, CERTIFIER_STEPS)
             }
-            Certificate::Unknown { .. } => None,
+            c => c,
+        };
+        match certificate {
+            Certificate::Free => Decision::Decided(Verdict::Certified(margin)),
+            Certificate::Unknown { near: Some(t), .. } if self.options.certify && self.environment_hit(a, b, t) => {
+                Decision::Decided(Verdict::Rejected)
+            }
+            Certificate::Unknown { .. } => Decision::Open { coarse_passed },
         }
+    }
+
+    /// Whether the state at `t` on `a → b` (where the certifier got stuck: the collision, if
+    /// any, is at or just after it) or one of the next [`STUCK_PROBES`] − 1 states a strict
+    /// step apart collides with the environment and not with the robot itself.
+    fn environment_hit(&self, a: &[f64], b: &[f64], t: f64) -> bool {
+        let len = distance(a, b);
+        let dt = if len > 0.0 { self.options.step / len } else { 1.0 };
+        let mut q = Vec::with_capacity(a.len());
+        (0..STUCK_PROBES).map(|k| t + k as f64 * dt).take_while(|&s| s <= 1.0).any(|s| {
+            interpolate_into(a, b, s, &mut q);
+            self.checker.residual_valid(&q) == Some(true) && !self.checker.is_valid(&q)
+        })
     }
 
     /// The verdict of the three validators on `a → b` (all must accept), computed cheaply:
@@ -192,10 +220,11 @@ impl<'a> SegmentCheck<'a> {
     /// A segment the certifier decides ([`SegmentCheck::decided`]) is not checked further:
     /// its decision is the verdict of the three validators.
     fn check(&self, a: &[f64], b: &[f64]) -> Verdict {
-        if let Some(verdict) = self.decided(a, b) {
-            return verdict;
-        }
-        let accepted = segment_valid_discrete(self.checker, a, b, self.options.planning_step)
+        let coarse_passed = match self.decided(a, b) {
+            Decision::Decided(verdict) => return verdict,
+            Decision::Open { coarse_passed } => coarse_passed,
+        };
+        let accepted = (coarse_passed || segment_valid_discrete(self.checker, a, b, self.options.planning_step))
             && match if self.options.certify { segment_valid_continuous(self.checker, a, b, &self.ccd) } else { None } {
                 Some(false) => false,
                 Some(true) => segment_valid_discrete_by(
@@ -255,6 +284,16 @@ impl<'a> SegmentCheck<'a> {
         let fastest = (0..bound.links().len()).map(|i| bound.bound(i, &dq)).fold(0.0, f64::max);
         Some(tolerance.max(fastest / budget) + CERTIFIER_SLACK)
     }
+}
+
+/// What [`SegmentCheck::decided`] makes of a segment.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Decision {
+    /// Decided: the verdict of the validators.
+    Decided(Verdict),
+    /// Left to the exact checks; `coarse_passed`: the planning-step check already accepted
+    /// the segment.
+    Open { coarse_passed: bool },
 }
 
 /// The verdict of [`SegmentCheck::check`] on a segment.
