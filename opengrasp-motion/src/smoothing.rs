@@ -516,3 +516,22 @@ fn dedup(path: Vec<Vec<f64>>, proven: Vec<Option<f64>>) -> (Vec<Vec<f64>>, Vec<O
     }
     (out, out_proven)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::dedup;
+
+    /// A dropped waypoint takes its incoming segment's proof along and leaves the next one
+    /// unproven (it now starts at the kept waypoint); the other proofs stay.
+    #[test]
+    fn dedup_keeps_the_proofs_of_unchanged_segments() {
+        let path = vec![vec![0.0, 0.0], vec![1e-13, 0.0], vec![1.0, 0.0], vec![1.0, 1.0], vec![1.0, 1.0 + 5e-13]];
+        let proven = vec![Some(0.1), Some(0.2), Some(0.3), Some(0.4)];
+        let (out, out_proven) = dedup(path, proven);
+        assert_eq!(out, vec![vec![0.0, 0.0], vec![1.0, 0.0], vec![1.0, 1.0]]);
+        assert_eq!(out_proven, vec![None, Some(0.3)]);
+        let (same, same_proven) = dedup(vec![vec![0.0], vec![2e-12], vec![1.0]], vec![Some(1.0), None]);
+        assert_eq!(same, vec![vec![0.0], vec![2e-12], vec![1.0]]);
+        assert_eq!(same_proven, vec![Some(1.0), None]);
+    }
+}
