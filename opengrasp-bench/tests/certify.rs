@@ -305,17 +305,22 @@ fn long_base_motions_are_certified_with_the_exact_paths() {
     assert!(fast_queries * 10 < exact_queries, "{fast_queries} vs {exact_queries}");
 }
 
+/// Kitchen scene 1 (it carries a certifier) and its group's limits.
+fn scene1() -> (SceneInstance, Vec<(f64, f64)>) {
+    let instance = (armar_standard_scene().generate)(0).unwrap();
+    let limits = instance.group.limits(&instance.robot);
+    (instance, limits)
+}
+
 /// A certificate holds for every piece of its segment (post-processing accepts the pieces of
 /// certified segments without certifying them again): random pieces of certified kitchen
 /// segments pass every exact validator.
 #[test]
 fn pieces_of_certified_segments_pass_the_exact_validators() {
-    let instance = (armar_standard_scene().generate)(0).unwrap();
-    let checker = &*instance.checker;
-    let certifier = instance.certifier.as_deref().unwrap();
+    let (instance, limits) = scene1();
+    let (checker, certifier) = (&*instance.checker, instance.certifier.as_deref().unwrap());
     let bound = checker.motion_bound().unwrap();
     let options = ValidationOptions::default();
-    let limits = instance.group.limits(&instance.robot);
     let mut rng = ChaCha8Rng::seed_from_u64(7);
     let draw = |rng: &mut ChaCha8Rng, c: &[f64], s: f64| -> Vec<f64> {
         c.iter().zip(&limits).map(|(v, (lo, hi))| (v + rng.random_range(-s..=s)).clamp(*lo, *hi)).collect()
@@ -337,6 +342,7 @@ fn pieces_of_certified_segments_pass_the_exact_validators() {
         assert!(v.discrete && v.strict && v.continuous == Some(true), "{piece:?}: {v:?}");
         pieces += 1;
     }
+    println!("{pieces} pieces of certified segments in {draws} draws");
     assert_eq!(pieces, 24, "{draws} draws");
 }
 
@@ -345,12 +351,10 @@ fn pieces_of_certified_segments_pass_the_exact_validators() {
 /// random long segments through the kitchen get stuck (not exhausted) before their end.
 #[test]
 fn unknown_certificates_tell_exhausted_from_stuck() {
-    let instance = (armar_standard_scene().generate)(0).unwrap();
-    let checker = &*instance.checker;
-    let certifier = instance.certifier.as_deref().unwrap();
+    let (instance, limits) = scene1();
+    let (checker, certifier) = (&*instance.checker, instance.certifier.as_deref().unwrap());
     let bound = checker.motion_bound().unwrap();
     let margin = ValidationOptions::default().ccd.tolerance + 1e-6;
-    let limits = instance.group.limits(&instance.robot);
     let mut rng = ChaCha8Rng::seed_from_u64(11);
     let (mut exhausted, mut stuck) = (0, 0);
     for _ in 0..400 {
@@ -381,5 +385,6 @@ fn unknown_certificates_tell_exhausted_from_stuck() {
             Certificate::Unknown { .. } => {}
         }
     }
-    assert!(exhausted >= 3 && stuck >= 3, "{exhausted} exhausted, {stuck} stuck");
+    println!("{exhausted} exhausted, {stuck} stuck");
+    assert!(exhausted >= 100 && stuck >= 20, "{exhausted} exhausted, {stuck} stuck");
 }
