@@ -304,3 +304,87 @@ fn long_base_motions_are_certified_with_the_exact_paths() {
     println!("exact distance queries: {exact_queries} exact, {fast_queries} certified");
     assert!(fast_queries * 10 < exact_queries, "{fast_queries} vs {exact_queries}");
 }
+
+/// Kitchen scene 1 (it carries a certifier) and its group's limits.
+fn scene1() -> (SceneInstance, Vec<(f64, f64)>) {
+    let instance = (armar_standard_scene().generate)(0).unwrap();
+    let limits = instance.group.limits(&instance.robot);
+    (instance, limits)
+}
+
+/// A certificate holds for every piece of its segment (post-processing accepts the pieces of
+/// certified segments without certifying them again): random pieces of certified kitchen
+/// segments pass every exact validator.
+#[test]
+fn pieces_of_certified_segments_pass_the_exact_validators() {
+    let (instance, limits) = scene1();
+    let (checker, certifier) = (&*instance.checker, instance.certifier.as_deref().unwrap());
+    let bound = checker.motion_bound().unwrap();
+    let options = ValidationOptions::default();
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let draw = |rng: &mut ChaCha8Rng, c: &[f64], s: f64| -> Vec<f64> {
+        c.iter().zip(&limits).map(|(v, (lo, hi))| (v + rng.random_range(-s..=s)).clamp(*lo, *hi)).collect()
+    };
+    let lerp = |a: &[f64], b: &[f64], t: f64| -> Vec<f64> { a.iter().zip(b).map(|(x, y)| x + t * (y - x)).collect() };
+    let (mut pieces, mut draws) = (0, 0);
+    while pieces < 24 && draws < 2000 {
+        draws += 1;
+        let a = draw(&mut rng, &instance.start, 1.2);
+        let b = draw(&mut rng, &a, 0.6);
+        if !checker.is_valid(&a)
+            || certifier.certify(&a, &b, bound, options.ccd.tolerance + 1e-6, 1000) != Certificate::Free
+        {
+            continue;
+        }
+        let (s, t): (f64, f64) = (rng.random(), rng.random());
+        let piece = [lerp(&a, &b, s.min(t)), lerp(&a, &b, s.max(t))];
+        let v = validate_path(checker, &piece, &options);
+        assert!(v.discrete && v.strict && v.continuous == Some(true), "{piece:?}: {v:?}");
+        pieces += 1;
+    }
+    println!("{pieces} pieces of certified segments in {draws} draws");
+    assert_eq!(pieces, 24, "{draws} draws");
+}
+
+/// The certifier tells a proof that ran out of steps (`exhausted`, still advancing) from one
+/// stuck at the margin: a certified segment given one step is exhausted at a `t` in (0, 1);
+/// random long segments through the kitchen get stuck (not exhausted) before their end.
+#[test]
+fn unknown_certificates_tell_exhausted_from_stuck() {
+    let (instance, limits) = scene1();
+    let (checker, certifier) = (&*instance.checker, instance.certifier.as_deref().unwrap());
+    let bound = checker.motion_bound().unwrap();
+    let margin = ValidationOptions::default().ccd.tolerance + 1e-6;
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let (mut exhausted, mut stuck) = (0, 0);
+    for _ in 0..400 {
+        let a: Vec<f64> = instance
+            .start
+            .iter()
+            .zip(&limits)
+            .map(|(v, (lo, hi))| (v + rng.random_range(-1.2..=1.2)).clamp(*lo, *hi))
+            .collect();
+        let b: Vec<f64> = limits.iter().map(|(lo, hi)| rng.random_range(*lo..=*hi)).collect();
+        if !checker.is_valid(&a) {
+            continue;
+        }
+        match certifier.certify(&a, &b, bound, margin, 1000) {
+            Certificate::Free => match certifier.certify(&a, &b, bound, margin, 1) {
+                Certificate::Unknown { near: Some(t), exhausted: true } => {
+                    assert!(t > 0.0 && t < 1.0, "t = {t}");
+                    exhausted += 1;
+                }
+                // One step may prove a short motion far from everything.
+                c => assert_eq!(c, Certificate::Free),
+            },
+            Certificate::Unknown { near: Some(t), exhausted: false } => {
+                assert!((0.0..1.0).contains(&t), "t = {t}");
+                // Stuck: a bound fell to the margin, so the state there is near a contact.
+                stuck += 1;
+            }
+            Certificate::Unknown { .. } => {}
+        }
+    }
+    println!("{exhausted} exhausted, {stuck} stuck");
+    assert!(exhausted >= 100 && stuck >= 20, "{exhausted} exhausted, {stuck} stuck");
+}

@@ -77,6 +77,12 @@ pub struct ShortcutStats {
 /// Advancement steps a [`SegmentCertifier`] may take per segment before the exact checks run.
 const CERTIFIER_STEPS: usize = 1000;
 
+/// Advancement steps of the first try: a proof still running after them is mostly a motion
+/// crawling towards a contact (advancement slows down geometrically there), which the
+/// planning-step check rejects for less; only a motion that passes it gets the rest of
+/// [`CERTIFIER_STEPS`].
+const FIRST_STEPS: usize = 100;
+
 /// States of the exact planning-step check tried before the certifier (the first ones of its
 /// coarse-to-fine order: the end state, the middle, the quarters): cheap rejections of
 /// segments that cross an obstacle.
@@ -118,14 +124,15 @@ impl<'a> SegmentCheck<'a> {
         Self { checker, certifier, static_clear: std::cell::Cell::new(None), options: *options, ccd }
     }
 
-    /// The verdict of [`SegmentCheck::ok`] when the certifier decides it, `None` otherwise:
+    /// The verdict of [`SegmentCheck::check`] when the certifier decides it, [`Decision::Open`]
+    /// otherwise:
     ///
-    /// - `Some(false)` if one of the first [`PROBE_STATES`] states of the planning-step
+    /// - `Rejected` if one of the first [`PROBE_STATES`] states of the planning-step
     ///   check is invalid (that check would reject it), or, when the continuous validator runs,
     ///   if the state where the certifier got stuck or one of the next [`STUCK_PROBES`] − 1
     ///   states a strict step apart collides with the environment and not with the robot
     ///   itself (conservative advancement cannot pass an environment collision);
-    /// - `Some(true)` if the certifier proves `a → b` free with a margin that makes every
+    /// - `Certified(m)` if the certifier proves `a → b` free with a margin that makes every
     ///   exact validator accept it: every state is collision-free, so both discrete checks
     ///   (and the strict check's residual) accept; every link the group moves stays at least
     ///   `m + slack` from the obstacles, with `m` the larger of the tolerance and
@@ -135,26 +142,20 @@ impl<'a> SegmentCheck<'a> {
     ///   its tolerance; and its steps (`min_i d_i / B_i` over the moving links) are at least
     ///   `m / max_i B_i` long, so it reaches the end within `max_queries − 2` queries and
     ///   accepts.
-    fn decided(&self, a: &[f64], b: &[f64]) -> Option<bool> {
-        let certifier = self.certifier?;
-        let bound = self.checker.motion_bound()?;
-        if !segment_probe(|q| self.checker.is_valid(q), a, b, self.options.planning_step, PROBE_STATES) {
-            return Some(false);
-        }
-        let tolerance = self.ccd.tolerance.max(0.0);
-        let dq: Vec<f64> = a.iter().zip(b).map(|(x, y)| y - x).collect();
-        let fastest = (0..bound.links().len()).map(|i| bound.bound(i, &dq)).fold(0.0, f64::max);
-        let margin = if self.options.certify {
-            // A long fast motion needs a margin above the tolerance for the continuous
-            // validator's steps (at least margin / fastest) to fit its query budget.
-            let budget = self.ccd.max_queries as f64 - 3.0;
-            if budget <= 0.0 {
-                return None;
-            }
-            tolerance.max(fastest / budget) + CERTIFIER_SLACK
-        } else {
-            tolerance + CERTIFIER_SLACK
+    ///
+    /// A proof still advancing after [`FIRST_STEPS`] steps runs on (to [`CERTIFIER_STEPS`])
+    /// only if the whole planning-step check accepts the segment (`Rejected` otherwise; the
+    /// exact checks do not repeat it after an open decision).
+    fn decided(&self, a: &[f64], b: &[f64]) -> Decision {
+        let open = Decision::Open { coarse_passed: false };
+        let (Some(certifier), Some(bound)) = (self.certifier, self.checker.motion_bound()) else {
+            return open;
         };
+        if !segment_probe(|q| self.checker.is_valid(q), a, b, self.options.planning_step, PROBE_STATES) {
+            return Decision::Decided(Verdict::Rejected);
+        }
+        let Some(margin) = self.margin(a, b) else { return open };
+        let tolerance = self.ccd.tolerance.max(0.0);
         // What no group joint moves is the same at every state: decide it once, at the first
         // segment's start (a valid state clears its fixed self pairs).
         let static_clear = self.static_clear.get().unwrap_or_else(|| {
@@ -166,24 +167,39 @@ impl<'a> SegmentCheck<'a> {
             clear
         });
         if !static_clear {
-            return None;
+            return open;
         }
-        match certifier.certify(a, b, bound, margin, CERTIFIER_STEPS) {
-            Certificate::Free => Some(true),
-            Certificate::Unknown { near: Some(t) } if self.options.certify => {
-                // The collision, if any, is at or just after `t`: look at `t` and the next
-                // few states a planning step apart.
-                let len = distance(a, b);
-                let dt = if len > 0.0 { self.options.step / len } else { 1.0 };
-                let mut q = Vec::with_capacity(a.len());
-                let environment_hit = (0..STUCK_PROBES).map(|k| t + k as f64 * dt).take_while(|&s| s <= 1.0).any(|s| {
-                    interpolate_into(a, b, s, &mut q);
-                    self.checker.residual_valid(&q) == Some(true) && !self.checker.is_valid(&q)
-                });
-                environment_hit.then_some(false)
+        let mut coarse_passed = false;
+        let certificate = match certifier.certify(a, b, bound, margin, FIRST_STEPS) {
+            Certificate::Unknown { exhausted: true, .. } => {
+                if !segment_valid_discrete(self.checker, a, b, self.options.planning_step) {
+                    return Decision::Decided(Verdict::Rejected);
+                }
+                coarse_passed = true;
+                certifier.certify(a, b, bound, margin, CERTIFIER_STEPS)
             }
-            Certificate::Unknown { .. } => None,
+            c => c,
+        };
+        match certificate {
+            Certificate::Free => Decision::Decided(Verdict::Certified(margin)),
+            Certificate::Unknown { near: Some(t), .. } if self.options.certify && self.environment_hit(a, b, t) => {
+                Decision::Decided(Verdict::Rejected)
+            }
+            Certificate::Unknown { .. } => Decision::Open { coarse_passed },
         }
+    }
+
+    /// Whether the state at `t` on `a → b` (where the certifier got stuck: the collision, if
+    /// any, is at or just after it) or one of the next [`STUCK_PROBES`] − 1 states a strict
+    /// step apart collides with the environment and not with the robot itself.
+    fn environment_hit(&self, a: &[f64], b: &[f64], t: f64) -> bool {
+        let len = distance(a, b);
+        let dt = if len > 0.0 { self.options.step / len } else { 1.0 };
+        let mut q = Vec::with_capacity(a.len());
+        (0..STUCK_PROBES).map(|k| t + k as f64 * dt).take_while(|&s| s <= 1.0).any(|s| {
+            interpolate_into(a, b, s, &mut q);
+            self.checker.residual_valid(&q) == Some(true) && !self.checker.is_valid(&q)
+        })
     }
 
     /// The verdict of the three validators on `a → b` (all must accept), computed cheaply:
@@ -203,24 +219,100 @@ impl<'a> SegmentCheck<'a> {
     ///
     /// A segment the certifier decides ([`SegmentCheck::decided`]) is not checked further:
     /// its decision is the verdict of the three validators.
+    fn check(&self, a: &[f64], b: &[f64]) -> Verdict {
+        let coarse_passed = match self.decided(a, b) {
+            Decision::Decided(verdict) => return verdict,
+            Decision::Open { coarse_passed } => coarse_passed,
+        };
+        let accepted = (coarse_passed || segment_valid_discrete(self.checker, a, b, self.options.planning_step))
+            && match if self.options.certify { segment_valid_continuous(self.checker, a, b, &self.ccd) } else { None } {
+                Some(false) => false,
+                Some(true) => segment_valid_discrete_by(
+                    |q| self.checker.residual_valid(q).unwrap_or_else(|| self.checker.is_valid(q)),
+                    a,
+                    b,
+                    self.options.step,
+                ),
+                None => segment_valid_discrete(self.checker, a, b, self.options.step),
+            };
+        if accepted {
+            Verdict::Accepted
+        } else {
+            Verdict::Rejected
+        }
+    }
+
+    /// Whether `a → b` passes the three validators ([`SegmentCheck::check`]).
     fn ok(&self, a: &[f64], b: &[f64]) -> bool {
-        if let Some(verdict) = self.decided(a, b) {
-            return verdict;
+        self.check(a, b) != Verdict::Rejected
+    }
+
+    /// [`SegmentCheck::check`] of `a → b`, a piece of a segment the certifier proved free with
+    /// margin `parent` (`None`: not proven).
+    ///
+    /// A certificate is a statement about states (every state of the segment keeps the moving
+    /// links `parent` from the obstacles and the moving pairs `parent` apart), so it holds for
+    /// every piece of the segment; and the margin a piece needs is at most its segment's (the
+    /// speed bounds scale with the length). So a piece whose margin is at most `parent` gets
+    /// the parent's certificate without any query: the certifier's verdict on it, had it
+    /// been asked, is the validators' verdict, acceptance (the piece's end points lie on the
+    /// segment up to the rounding of an interpolation, ~1e-16 rad, far within
+    /// [`CERTIFIER_SLACK`]).
+    fn check_piece(&self, parent: Option<f64>, a: &[f64], b: &[f64]) -> Verdict {
+        match (parent, self.margin(a, b)) {
+            (Some(proven), Some(needed)) if needed <= proven => Verdict::Certified(proven),
+            _ => self.check(a, b),
         }
-        if !segment_valid_discrete(self.checker, a, b, self.options.planning_step) {
-            return false;
+    }
+
+    /// The margin the certifier must prove on `a → b` for its proof to imply the verdict of
+    /// every validator (see [`SegmentCheck::decided`]), `None` if no margin does (no motion
+    /// bound, or a continuous query budget under 4).
+    fn margin(&self, a: &[f64], b: &[f64]) -> Option<f64> {
+        let bound = self.checker.motion_bound()?;
+        let tolerance = self.ccd.tolerance.max(0.0);
+        if !self.options.certify {
+            return Some(tolerance + CERTIFIER_SLACK);
         }
-        let continuous =
-            if self.options.certify { segment_valid_continuous(self.checker, a, b, &self.ccd) } else { None };
-        match continuous {
-            Some(false) => false,
-            Some(true) => segment_valid_discrete_by(
-                |q| self.checker.residual_valid(q).unwrap_or_else(|| self.checker.is_valid(q)),
-                a,
-                b,
-                self.options.step,
-            ),
-            None => segment_valid_discrete(self.checker, a, b, self.options.step),
+        // A long fast motion needs a margin above the tolerance for the continuous
+        // validator's steps (at least margin / fastest) to fit its query budget.
+        let budget = self.ccd.max_queries as f64 - 3.0;
+        if budget <= 0.0 {
+            return None;
+        }
+        let dq: Vec<f64> = a.iter().zip(b).map(|(x, y)| y - x).collect();
+        let fastest = (0..bound.links().len()).map(|i| bound.bound(i, &dq)).fold(0.0, f64::max);
+        Some(tolerance.max(fastest / budget) + CERTIFIER_SLACK)
+    }
+}
+
+/// What [`SegmentCheck::decided`] makes of a segment.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Decision {
+    /// Decided: the verdict of the validators.
+    Decided(Verdict),
+    /// Left to the exact checks; `coarse_passed`: the planning-step check already accepted
+    /// the segment.
+    Open { coarse_passed: bool },
+}
+
+/// The verdict of [`SegmentCheck::check`] on a segment.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Verdict {
+    /// A validator rejects the segment.
+    Rejected,
+    /// Every validator accepts it (checked exactly).
+    Accepted,
+    /// Every validator accepts it: the certifier proved it free with this margin.
+    Certified(f64),
+}
+
+impl Verdict {
+    /// The proven margin, if any.
+    fn margin(self) -> Option<f64> {
+        match self {
+            Verdict::Certified(m) => Some(m),
+            _ => None,
         }
     }
 }
@@ -323,6 +415,8 @@ pub fn shortcut_with(
 ) -> (Vec<Vec<f64>>, ShortcutStats) {
     let check = SegmentCheck::new(checker, certifier, options);
     let mut path: Vec<Vec<f64>> = path.to_vec();
+    // Per segment of `path`: the margin the certifier proved it free with, if it did.
+    let mut proven: Vec<Option<f64>> = vec![None; path.len().saturating_sub(1)];
     let mut stats = ShortcutStats::default();
     let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
     for _ in 0..options.iterations {
@@ -361,8 +455,18 @@ pub fn shortcut_with(
             continue;
         }
         // The partial segments path[i1] → p1 and p2 → path[i2 + 1] lie on old segments but are
-        // sampled on a different grid: check them as well.
-        if !check.ok(&p1, &p2) || !check.ok(&path[i1], &p1) || !check.ok(&p2, &path[i2 + 1]) {
+        // sampled on a different grid: check them as well (pieces of certified segments are
+        // certified already).
+        let middle = check.check(&p1, &p2);
+        if middle == Verdict::Rejected {
+            continue;
+        }
+        let head = check.check_piece(proven[i1], &path[i1], &p1);
+        if head == Verdict::Rejected {
+            continue;
+        }
+        let tail = check.check_piece(proven[i2], &p2, &path[i2 + 1]);
+        if tail == Verdict::Rejected {
             continue;
         }
         let mut next = Vec::with_capacity(path.len());
@@ -370,8 +474,11 @@ pub fn shortcut_with(
         next.push(p1);
         next.push(p2);
         next.extend_from_slice(&path[i2 + 1..]);
-        next.dedup_by(|a, b| distance(a, b) < 1e-12);
-        path = next;
+        let mut next_proven = Vec::with_capacity(next.len());
+        next_proven.extend_from_slice(&proven[..i1]);
+        next_proven.extend([head.margin(), middle.margin(), tail.margin()]);
+        next_proven.extend_from_slice(&proven[i2 + 1..]);
+        (path, proven) = dedup(next, next_proven);
         stats.accepted += 1;
     }
     // Vertex pruning: drop waypoints whose neighbours can be joined directly. Random shortcuts
@@ -387,4 +494,44 @@ pub fn shortcut_with(
         }
     }
     (path, stats)
+}
+
+/// Drops every waypoint within 1e-12 of the one kept before it, with `proven` (per segment):
+/// the segment into a dropped waypoint goes, and the one out of it becomes not proven (it now
+/// starts at the kept waypoint).
+fn dedup(path: Vec<Vec<f64>>, proven: Vec<Option<f64>>) -> (Vec<Vec<f64>>, Vec<Option<f64>>) {
+    let mut out: Vec<Vec<f64>> = Vec::with_capacity(path.len());
+    let mut out_proven: Vec<Option<f64>> = Vec::with_capacity(proven.len());
+    let mut moved = false;
+    for (k, q) in path.into_iter().enumerate() {
+        if out.last().is_some_and(|last| distance(last, &q) < 1e-12) {
+            moved = true;
+            continue;
+        }
+        if k > 0 {
+            out_proven.push(if moved { None } else { proven[k - 1] });
+        }
+        moved = false;
+        out.push(q);
+    }
+    (out, out_proven)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::dedup;
+
+    /// A dropped waypoint takes its incoming segment's proof along and leaves the next one
+    /// unproven (it now starts at the kept waypoint); the other proofs stay.
+    #[test]
+    fn dedup_keeps_the_proofs_of_unchanged_segments() {
+        let path = vec![vec![0.0, 0.0], vec![1e-13, 0.0], vec![1.0, 0.0], vec![1.0, 1.0], vec![1.0, 1.0 + 5e-13]];
+        let proven = vec![Some(0.1), Some(0.2), Some(0.3), Some(0.4)];
+        let (out, out_proven) = dedup(path, proven);
+        assert_eq!(out, vec![vec![0.0, 0.0], vec![1.0, 0.0], vec![1.0, 1.0]]);
+        assert_eq!(out_proven, vec![None, Some(0.3)]);
+        let (same, same_proven) = dedup(vec![vec![0.0], vec![2e-12], vec![1.0]], vec![Some(1.0), None]);
+        assert_eq!(same, vec![vec![0.0], vec![2e-12], vec![1.0]]);
+        assert_eq!(same_proven, vec![Some(1.0), None]);
+    }
 }

@@ -318,7 +318,7 @@ impl SphereCertifier {
 
 impl SegmentCertifier for SphereCertifier {
     fn certify(&self, a: &[f64], b: &[f64], bound: &MotionBound, margin: f64, max_steps: usize) -> Certificate {
-        let unknown = Certificate::Unknown { near: None };
+        let unknown = Certificate::Unknown { near: None, exhausted: false };
         let n = self.dofs.len();
         let within = |q: &[f64]| q.len() == n && q.iter().zip(&self.limits).all(|(v, (lo, hi))| *v >= *lo && *v <= *hi);
         if *bound != self.bound || bound.dim() != n || !within(a) || !within(b) || margin.is_nan() || margin <= 0.0 {
@@ -341,7 +341,7 @@ impl SegmentCertifier for SphereCertifier {
             // What expires within the last advance from here is evaluated now.
             let until = t + (t - last);
             if self.step(&mut scratch, &motion, margin, t, until, step).is_err() {
-                return Certificate::Unknown { near: Some(t) };
+                return Certificate::Unknown { near: Some(t), exhausted: false };
             }
             last = t;
             t = scratch.earliest_horizon();
@@ -352,6 +352,6 @@ impl SegmentCertifier for SphereCertifier {
                 *x = a0 + t * dv;
             }
         }
-        Certificate::Unknown { near: Some(t) }
+        Certificate::Unknown { near: Some(t), exhausted: true }
     }
 }

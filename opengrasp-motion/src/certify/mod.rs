@@ -78,6 +78,9 @@ pub enum Certificate {
     Unknown {
         /// Where the proof got stuck, if it got anywhere.
         near: Option<f64>,
+        /// Whether the step budget ran out while the proof was still advancing (rather than
+        /// a bound falling to the margin): a larger budget may prove the motion.
+        exhausted: bool,
     },
 }
 
