@@ -554,7 +554,7 @@ impl StateValidityChecker for SphereWorld {
             if self.batched {
                 return self.check_motion_lanes(s, a, b, step);
             }
-            if let Some(verdict) = self.certify.then(|| self.check_motion_certified(s, a, b, step)).flatten() {
+            if let Some(verdict) = self.certify.then(|| self.check_motion_certified(s, a, b, step, None)).flatten() {
                 return verdict;
             }
             let mut q = std::mem::take(&mut s.q);
@@ -602,5 +602,28 @@ impl StateValidityChecker for SphereWorld {
 
     fn ccd_covers_self_collision(&self) -> bool {
         true
+    }
+
+    /// The gap of every test of the state check (obstacle and pair tests), when motions are
+    /// certified and not batched.
+    fn state_certificate(&self, q: &[f64], out: &mut Vec<f64>) -> bool {
+        if !self.certify || self.batched {
+            out.clear();
+            return self.is_valid(q);
+        }
+        with_scratch(|s| self.certify_state(s, q, out))
+    }
+
+    /// Certified like [`StateValidityChecker::check_motion`], the tests' gaps at the ends
+    /// certifying the states near them.
+    fn is_motion_valid_between(&self, a: &[f64], a_cert: &[f64], b: &[f64], b_cert: &[f64], step: f64) -> bool {
+        let n = self.test_count();
+        if self.certify && !self.batched && a_cert.len() == n && b_cert.len() == n {
+            let ends = Some((a_cert, b_cert));
+            if let Some((valid, _)) = with_scratch(|s| self.check_motion_certified(s, a, b, step, ends)) {
+                return valid;
+            }
+        }
+        self.is_motion_valid(a, b, step)
     }
 }
