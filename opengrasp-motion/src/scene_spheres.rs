@@ -541,4 +541,13 @@ impl StateValidityChecker for SceneSphereModel {
             (false, 1)
         }
     }
+
+    fn state_certificate(&self, q: &[f64], out: &mut Vec<f64>) -> bool {
+        out.clear();
+        self.static_clear && self.world.state_certificate(q, out)
+    }
+
+    fn is_motion_valid_between(&self, a: &[f64], a_cert: &[f64], b: &[f64], b_cert: &[f64], step: f64) -> bool {
+        self.static_clear && self.world.is_motion_valid_between(a, a_cert, b, b_cert, step)
+    }
 }

@@ -34,7 +34,10 @@ impl Default for PrmOptions {
 }
 
 /// Probabilistic roadmap: `setup` samples [`PrmOptions::nodes`] valid configurations and
-/// connects each to its `k` nearest neighbours by valid straight segments; each query connects
+/// connects each to its `k` nearest neighbours by valid straight segments (checked with
+/// [`StateValidityChecker::is_motion_valid_between`] and the vertices'
+/// [`StateValidityChecker::state_certificate`]s: the verdicts of
+/// [`StateValidityChecker::is_motion_valid`], fewer state tests); each query connects
 /// start and goals to the roadmap and runs Dijkstra. If they are not connected, the roadmap
 /// grows by [`PrmOptions::growth`] samples per round until the time limit. The roadmap
 /// (including growth) is kept for later queries in the same scene; calling `setup` again
@@ -66,31 +69,68 @@ impl Prm {
         self.edges.iter().map(Vec::len).sum::<usize>() / 2
     }
 
-    fn sample_valid(&self, checker: &dyn StateValidityChecker, rng: &mut ChaCha8Rng, out: &mut Vec<f64>) -> bool {
+    /// The roadmap edges of `node` as `(neighbour, length)`, in the order they were added
+    /// (empty for an unknown node).
+    pub fn roadmap_neighbours(&self, node: usize) -> &[(usize, f64)] {
+        self.edges.get(node).map_or(&[], Vec::as_slice)
+    }
+
+    /// A valid sample into `out`; with `cert`, checked by
+    /// [`StateValidityChecker::state_certificate`] (same verdict), its certificate in `cert`.
+    fn sample_valid(
+        &self,
+        checker: &dyn StateValidityChecker,
+        rng: &mut ChaCha8Rng,
+        out: &mut Vec<f64>,
+        mut cert: Option<&mut Vec<f64>>,
+    ) -> bool {
         use rand::Rng;
         for _ in 0..100 {
             out.clear();
             out.extend(self.limits.iter().map(|&(lo, hi)| lo + (hi - lo) * rng.random::<f64>()));
-            if checker.is_valid(out) {
+            let valid = match cert.as_deref_mut() {
+                Some(c) => checker.state_certificate(out, c),
+                None => checker.is_valid(out),
+            };
+            if valid {
                 return true;
             }
         }
         false
     }
 
-    fn add_node(&mut self, checker: &dyn StateValidityChecker, q: &[f64], step: f64) -> Result<()> {
+    /// Adds `q` and its valid edges to its k nearest nodes. With `certs` (one certificate per
+    /// node, `q_cert` that of `q`), the edges are checked by
+    /// [`StateValidityChecker::is_motion_valid_between`]: same edges, fewer state tests.
+    fn add_node(
+        &mut self,
+        checker: &dyn StateValidityChecker,
+        q: &[f64],
+        step: f64,
+        certs: Option<(&mut Vec<Vec<f64>>, Vec<f64>)>,
+    ) -> Result<()> {
         let near = self.nodes.k_nearest(q, self.options.k)?;
         let i = self.nodes.push(q)?;
         self.edges.push(Vec::new());
         for (j, d) in near {
-            if checker.is_motion_valid(self.nodes.get(j), q, step) {
+            let valid = match &certs {
+                Some((all, q_cert)) => checker.is_motion_valid_between(self.nodes.get(j), &all[j], q, q_cert, step),
+                None => checker.is_motion_valid(self.nodes.get(j), q, step),
+            };
+            if valid {
                 self.edges[i].push((j, d));
                 self.edges[j].push((i, d));
             }
         }
+        if let Some((all, q_cert)) = certs {
+            all.push(q_cert);
+        }
         Ok(())
     }
 
+    /// Adds up to `count` samples. `certs`: the certificates of every node so far (`setup`,
+    /// which starts from an empty roadmap), kept up to date; queries grow without them, so
+    /// that their checks are the one-by-one checks the benchmark counts.
     fn grow(
         &mut self,
         checker: &dyn StateValidityChecker,
@@ -98,14 +138,18 @@ impl Prm {
         count: usize,
         step: f64,
         deadline: Option<&Deadline>,
+        mut certs: Option<&mut Vec<Vec<f64>>>,
     ) -> Result<()> {
         let mut q = Vec::new();
         for _ in 0..count {
             if deadline.is_some_and(Deadline::expired) {
                 break;
             }
-            if self.sample_valid(checker, rng, &mut q) {
-                self.add_node(checker, &q, step)?;
+            let mut q_cert = Vec::new();
+            let with_cert = certs.is_some().then_some(&mut q_cert);
+            if self.sample_valid(checker, rng, &mut q, with_cert) {
+                let node_certs = certs.as_deref_mut().map(|all| (all, q_cert));
+                self.add_node(checker, &q, step, node_certs)?;
             }
         }
         Ok(())
@@ -190,7 +234,8 @@ impl MotionPlanner for Prm {
         self.nodes = Nodes::new(self.neighbors, context.group.len());
         self.edges.clear();
         let mut rng = ChaCha8Rng::seed_from_u64(context.seed);
-        self.grow(context.checker, &mut rng, self.options.nodes, context.step, None)
+        let mut certs = Vec::with_capacity(self.options.nodes);
+        self.grow(context.checker, &mut rng, self.options.nodes, context.step, None, Some(&mut certs))
     }
 
     fn plan(&mut self, problem: &PlanningProblem<'_>) -> Result<Solution> {
@@ -248,7 +293,7 @@ impl MotionPlanner for Prm {
                 return Err(timeout());
             }
             iterations += self.options.growth as u64;
-            self.grow(checker, &mut rng, self.options.growth.max(1), step, Some(&deadline))?;
+            self.grow(checker, &mut rng, self.options.growth.max(1), step, Some(&deadline), None)?;
         }
     }
 }

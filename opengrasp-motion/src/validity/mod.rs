@@ -129,6 +129,25 @@ pub trait StateValidityChecker {
         let _ = q;
         None
     }
+
+    /// [`StateValidityChecker::is_valid`] of `q`, and into `out` (cleared first) what the
+    /// check learnt about the neighbourhood of a valid `q`, for
+    /// [`StateValidityChecker::is_motion_valid_between`]: planners that check many motions
+    /// from the same states (a roadmap's vertices) compute it once per state. Left empty by
+    /// the default and for invalid states.
+    fn state_certificate(&self, q: &[f64], out: &mut Vec<f64>) -> bool {
+        out.clear();
+        self.is_valid(q)
+    }
+
+    /// [`StateValidityChecker::is_motion_valid`] of `a → b` (same verdict) given the
+    /// [`StateValidityChecker::state_certificate`]s of `a` and `b` from this checker, which
+    /// let it skip tests near the ends (an empty certificate is no help). The default ignores
+    /// them.
+    fn is_motion_valid_between(&self, a: &[f64], a_cert: &[f64], b: &[f64], b_cert: &[f64], step: f64) -> bool {
+        let _ = (a_cert, b_cert);
+        self.is_motion_valid(a, b, step)
+    }
 }
 
 /// Forwards every method of [`StateValidityChecker`] through a pointer type.
@@ -164,6 +183,12 @@ macro_rules! forward_checker {
             }
             fn residual_valid(&self, q: &[f64]) -> Option<bool> {
                 (**self).residual_valid(q)
+            }
+            fn state_certificate(&self, q: &[f64], out: &mut Vec<f64>) -> bool {
+                (**self).state_certificate(q, out)
+            }
+            fn is_motion_valid_between(&self, a: &[f64], a_cert: &[f64], b: &[f64], b_cert: &[f64], step: f64) -> bool {
+                (**self).is_motion_valid_between(a, a_cert, b, b_cert, step)
             }
         }
     )*};

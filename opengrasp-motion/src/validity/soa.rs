@@ -161,10 +161,12 @@ pub(super) struct Scratch {
     pub lane_coarse: LaneCentres,
     pub lane_q: Vec<Lanes>,
     pub order: Vec<usize>,
-    /// Buffers of the certified motion checks: `|Δq|` per step, and per test one bit per
-    /// state it is certified at.
+    /// Buffers of the certified motion checks: `|Δq|` per step, and per state word and test
+    /// one bit per state the test is certified at.
     pub per_step: Vec<f64>,
     pub certified: Vec<u64>,
+    /// Per word of `certified`, the states every test is certified at.
+    pub all: Vec<u64>,
 }
 
 thread_local! {

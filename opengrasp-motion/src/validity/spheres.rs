@@ -2,22 +2,24 @@
 
 use std::sync::Arc;
 
-use nalgebra::{Isometry3, Point3, Vector3};
+use nalgebra::{Isometry3, Point3};
 use opengrasp_core::kinematics::forward_kinematics_into;
-use opengrasp_core::model::{Geometry, JointGroup, LinkId, Robot};
+use opengrasp_core::model::{JointGroup, LinkId, Robot};
 
 use crate::error::Result;
 
 use super::chain::{Chain, LANES};
-use super::cover::{self, cover_box};
+use super::cover;
 use super::soa::{with_scratch, ObstacleFrame, Scratch, SphereSoa};
 use super::{MotionBound, ObstacleBox, ObstaclePrimitive, StateValidityChecker};
 
 mod certified;
+mod covered;
 mod lanes;
 mod table;
 
 use certified::Certificates;
+use covered::Covered;
 use table::PairTable;
 
 /// Which link pairs a [`SphereWorld`] checks for self-collision.
@@ -119,37 +121,6 @@ pub enum MeshCover {
     /// Freely placed spheres chosen by greedy set cover ([`cover::greedy_cover`]): every
     /// surface point covered, the fewest spheres for an overhang budget.
     Greedy(cover::GreedyCoverOptions),
-}
-
-fn cover_shape(
-    geometry: &Geometry,
-    origin: &Isometry3<f64>,
-    meshes: MeshCover,
-    out: &mut Vec<(Point3<f64>, f64)>,
-) -> Result<()> {
-    match geometry {
-        Geometry::Sphere { radius } => out.push((origin * Point3::origin(), *radius)),
-        Geometry::Capsule { radius, length } | Geometry::Cylinder { radius, length } => {
-            let n = (length / radius).ceil().max(1.0) as usize;
-            let s = length / n as f64;
-            let rr = (radius * radius + s * s * 0.25).sqrt();
-            for k in 0..=n {
-                let z = -length * 0.5 + s * k as f64;
-                out.push((origin * Point3::new(0.0, 0.0, z), rr));
-            }
-        }
-        Geometry::Box { half_extents } => cover_box(half_extents, origin, out),
-        Geometry::Mesh(mesh) => {
-            let cover = match meshes {
-                MeshCover::BoundingBox => cover::bounding_box_cover(mesh),
-                MeshCover::Voxels { cell } => cover::voxel_cover(mesh, cell)?,
-                MeshCover::Greedy(options) => cover::greedy_cover(mesh, &options)?,
-                MeshCover::Adaptive { cell, max_overhang } => cover::adaptive_cover(mesh, cell, max_overhang)?,
-            };
-            out.extend(cover.spheres.iter().map(|(c, r)| (origin * c, *r)));
-        }
-    }
-    Ok(())
 }
 
 impl SphereWorld {
@@ -378,48 +349,6 @@ impl SphereWorld {
     }
 }
 
-/// Every link with collision geometry covered by spheres.
-#[derive(Debug)]
-struct Covered {
-    links: Vec<LinkId>,
-    /// (index into `links`, centre in the link frame, radius), grouped by link.
-    spheres: Vec<(usize, Point3<f64>, f64)>,
-    ranges: Vec<(usize, usize)>,
-    /// Per link, points whose hull holds its spheres (for the motion bound).
-    points: Vec<Vec<Point3<f64>>>,
-}
-
-impl Covered {
-    fn new(robot: &Robot, meshes: MeshCover) -> Result<Self> {
-        let mut this = Self { links: Vec::new(), spheres: Vec::new(), ranges: Vec::new(), points: Vec::new() };
-        let mut buf = Vec::new();
-        for (i, link) in robot.links().iter().enumerate() {
-            if link.collisions.is_empty() {
-                continue;
-            }
-            buf.clear();
-            for shape in &link.collisions {
-                cover_shape(&shape.geometry, &shape.origin, meshes, &mut buf)?;
-            }
-            let k = this.links.len();
-            let start = this.spheres.len();
-            let mut pts = Vec::new();
-            for &(c, r) in &buf {
-                this.spheres.push((k, c, r));
-                // The sphere's bounding-box corners contain it.
-                for s in 0..8 {
-                    let sign = |b: usize| if s & b == 0 { -r } else { r };
-                    pts.push(c + Vector3::new(sign(1), sign(2), sign(4)));
-                }
-            }
-            this.ranges.push((start, this.spheres.len()));
-            this.links.push(LinkId(i));
-            this.points.push(pts);
-        }
-        Ok(this)
-    }
-}
-
 fn frames(obstacles: &[ObstaclePrimitive]) -> Vec<ObstacleFrame> {
     obstacles.iter().map(|o| ObstacleFrame::new(&o.pose, o.shape)).collect()
 }
@@ -554,7 +483,7 @@ impl StateValidityChecker for SphereWorld {
             if self.batched {
                 return self.check_motion_lanes(s, a, b, step);
             }
-            if let Some(verdict) = self.certify.then(|| self.check_motion_certified(s, a, b, step)).flatten() {
+            if let Some(verdict) = self.certify.then(|| self.check_motion_certified(s, a, b, step, None)).flatten() {
                 return verdict;
             }
             let mut q = std::mem::take(&mut s.q);
@@ -602,5 +531,28 @@ impl StateValidityChecker for SphereWorld {
 
     fn ccd_covers_self_collision(&self) -> bool {
         true
+    }
+
+    /// The gap of every test of the state check (obstacle and pair tests), when motions are
+    /// certified and not batched.
+    fn state_certificate(&self, q: &[f64], out: &mut Vec<f64>) -> bool {
+        if !self.certify || self.batched {
+            out.clear();
+            return self.is_valid(q);
+        }
+        with_scratch(|s| self.certify_state(s, q, out))
+    }
+
+    /// Certified like [`StateValidityChecker::check_motion`], the tests' gaps at the ends
+    /// certifying the states near them.
+    fn is_motion_valid_between(&self, a: &[f64], a_cert: &[f64], b: &[f64], b_cert: &[f64], step: f64) -> bool {
+        let n = self.test_count();
+        if self.certify && !self.batched && a_cert.len() == n && b_cert.len() == n {
+            let ends = Some((a_cert, b_cert));
+            if let Some((valid, _)) = with_scratch(|s| self.check_motion_certified(s, a, b, step, ends)) {
+                return valid;
+            }
+        }
+        self.is_motion_valid(a, b, step)
     }
 }

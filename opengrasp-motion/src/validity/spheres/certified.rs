@@ -94,15 +94,66 @@ impl SphereWorld {
         }
     }
 
+    /// The gap of `test` at `q` (`None` if it fails): from the pair's table if it settles it,
+    /// else on the placed state, placing it (kinematics and centres) first unless `placed`.
+    fn gap_at(&self, test: Test, q: &[f64], s: &mut Scratch, placed: &mut bool) -> Option<f64> {
+        let table = match test {
+            Test::Pair { p, .. } => self.table_gap(p, q),
+            Test::Obstacle { .. } => None,
+        };
+        if table.is_some() {
+            return table;
+        }
+        // The kinematics only once a test needs them (a table may settle the rest).
+        if !*placed {
+            *placed = true;
+            self.chain.frames(q, &mut s.frames);
+            self.soa.begin(&s.frames, &mut s.centres);
+            if let Some((_, coarse)) = &self.coarse {
+                coarse.begin(&s.frames, &mut s.coarse);
+            }
+        }
+        self.test_gap(test, &s.frames, &mut s.centres, &mut s.coarse)
+    }
+
+    /// [`StateValidityChecker::state_certificate`]: the verdict of
+    /// [`SphereWorld::check_state`] and, for a valid `q`, the gap of every test in `out` (one
+    /// per test, in order); `out` is left empty for an invalid `q`.
+    pub(super) fn certify_state(&self, s: &mut Scratch, q: &[f64], out: &mut Vec<f64>) -> bool {
+        out.clear();
+        if !self.fixed_ok {
+            return false;
+        }
+        let mut placed = false;
+        for &test in &self.cert.tests {
+            let Some(gap) = self.gap_at(test, q, s, &mut placed) else {
+                out.clear();
+                return false;
+            };
+            out.push(gap);
+        }
+        true
+    }
+
+    /// Number of tests of a state check (the length of a [`SphereWorld::certify_state`]).
+    pub(super) fn test_count(&self) -> usize {
+        self.cert.tests.len()
+    }
+
     /// [`StateValidityChecker::check_motion`] with certified tests skipped (see the module
     /// documentation): same verdict and count as checking the states one by one. Motions of
     /// more than [`MAX_STATES`] states are checked one by one.
+    ///
+    /// With `ends`, the [`SphereWorld::certify_state`] gaps of `a` and `b` (valid states, one
+    /// gap per test) certify the states near the ends before any is computed: same verdict,
+    /// fewer states (the count is then not the one-by-one count).
     pub(super) fn check_motion_certified(
         &self,
         s: &mut Scratch,
         a: &[f64],
         b: &[f64],
         step: f64,
+        ends: Option<(&[f64], &[f64])>,
     ) -> Option<(bool, u64)> {
         let n = segment_subdivisions(a, b, step);
         if n >= MAX_STATES {
@@ -130,14 +181,24 @@ impl SphereWorld {
             let d: f64 = w.iter().zip(a).zip(b).map(|((w, x), y)| w * (y - x).abs()).sum();
             n.max(1) as f64 / (d * (1.0 + 1e-9))
         }));
-        // Per test, a bit per state index: certified (bit 0, the start, is never checked).
+        // Per state word and test, a bit per state index: certified (bit 0, the start, is
+        // never checked); `all`, per word, the states every test is certified at.
+        let (tests, words) = (cert.tests.len(), n / 64 + 1);
         s.certified.clear();
-        s.certified.resize(cert.tests.len(), 0);
-        let mut all = 0u64;
+        s.certified.resize(tests * words, 0);
+        s.all.clear();
+        s.all.resize(words, 0);
+        if let Some((a_gaps, b_gaps)) = ends {
+            for t in 0..tests {
+                set_bits(&mut s.certified[t..], tests, reach(a_gaps[t], s.per_step[t], 0, n));
+                set_bits(&mut s.certified[t..], tests, reach(b_gaps[t], s.per_step[t], n, n));
+            }
+            all_certified(&s.certified, tests, &mut s.all);
+        }
         let mut q = std::mem::take(&mut s.q);
         let mut verdict = (true, order.len() as u64);
         'states: for (pos, &i) in order.iter().enumerate() {
-            if all >> i & 1 == 1 {
+            if s.all[i / 64] >> (i % 64) & 1 == 1 {
                 continue;
             }
             if i == n {
@@ -146,38 +207,25 @@ impl SphereWorld {
             } else {
                 interpolate_into(a, b, i as f64 / n as f64, &mut q);
             }
-            // The kinematics only once a test needs them (a table may settle the rest).
             let mut placed = false;
-            all = u64::MAX;
-            for (t, &test) in cert.tests.iter().enumerate() {
-                let mut bits = s.certified[t];
-                if bits >> i & 1 == 0 {
-                    let table = match test {
-                        Test::Pair { p, .. } => self.table_gap(p, &q),
-                        Test::Obstacle { .. } => None,
-                    };
-                    if table.is_none() && !placed {
-                        placed = true;
-                        self.chain.frames(&q, &mut s.frames);
-                        self.soa.begin(&s.frames, &mut s.centres);
-                        if let Some((_, coarse)) = &self.coarse {
-                            coarse.begin(&s.frames, &mut s.coarse);
-                        }
-                    }
-                    let gap = table.or_else(|| self.test_gap(test, &s.frames, &mut s.centres, &mut s.coarse));
-                    let Some(gap) = gap else {
-                        verdict = (false, pos as u64 + 1);
-                        break 'states;
-                    };
-                    // States within reach of `i`: `⌊(gap − slack) / per step⌋`, saturating
-                    // (negative → 0, ∞ → all).
-                    let reach = (((gap - SLACK) * s.per_step[t]) as usize).min(n);
-                    let (lo, hi) = (i.saturating_sub(reach), (i + reach).min(n));
-                    bits |= (u64::MAX >> (63 - hi)) & (u64::MAX << lo);
-                    s.certified[t] = bits;
+            let (row, bit) = ((i / 64) * tests, i % 64);
+            // Most tests are certified: skip them a block at a time.
+            for block in (0..tests).step_by(BLOCK) {
+                let end = (block + BLOCK).min(tests);
+                if s.certified[row + block..row + end].iter().fold(u64::MAX, |acc, &b| acc & b) >> bit & 1 == 1 {
+                    continue;
                 }
-                all &= bits;
+                for t in block..end {
+                    if s.certified[row + t] >> bit & 1 == 0 {
+                        let Some(gap) = self.gap_at(cert.tests[t], &q, s, &mut placed) else {
+                            verdict = (false, pos as u64 + 1);
+                            break 'states;
+                        };
+                        set_bits(&mut s.certified[t..], tests, reach(gap, s.per_step[t], i, n));
+                    }
+                }
             }
+            all_certified(&s.certified, tests, &mut s.all);
         }
         s.q = q;
         s.order = order;
@@ -185,5 +233,33 @@ impl SphereWorld {
     }
 }
 
-/// Motions of at most this many states minus one are certified (one bit per state).
-const MAX_STATES: usize = 64;
+/// The states of a motion of `n` steps that a test passing with `gap` at state `i` certifies:
+/// `lo..=hi`, those within `⌊(gap − slack) · per_step⌋` of `i`, saturating (negative → only
+/// `i`, ∞ → all).
+fn reach(gap: f64, per_step: f64, i: usize, n: usize) -> (usize, usize) {
+    let reach = (((gap - SLACK) * per_step) as usize).min(n);
+    (i.saturating_sub(reach), (i + reach).min(n))
+}
+
+/// Sets the bits `lo..=hi` of a bit set stored one word every `stride` entries of `bits`.
+fn set_bits(bits: &mut [u64], stride: usize, (lo, hi): (usize, usize)) {
+    for w in lo / 64..=hi / 64 {
+        let from = if w == lo / 64 { lo % 64 } else { 0 };
+        let to = if w == hi / 64 { hi % 64 } else { 63 };
+        bits[w * stride] |= (u64::MAX >> (63 - to)) & (u64::MAX << from);
+    }
+}
+
+/// Per word, the AND of the `tests` bit sets stored word by word in `certified`.
+fn all_certified(certified: &[u64], tests: usize, all: &mut [u64]) {
+    for (w, out) in all.iter_mut().enumerate() {
+        *out = certified[w * tests..(w + 1) * tests].iter().fold(u64::MAX, |acc, &b| acc & b);
+    }
+}
+
+/// Tests whose certificate bits a motion check tests together.
+const BLOCK: usize = 8;
+
+/// Motions of fewer states than this are certified (one bit per state and test: at most
+/// 512 bytes per test); longer ones are checked one by one.
+const MAX_STATES: usize = 4096;
