@@ -95,6 +95,12 @@ pub struct PhysicsCheckOptions {
     /// contacts then released millimetres of penetration at once and threw objects out of
     /// the Barrett hand.) Default: true.
     pub fixture: bool,
+    /// With `fixture`: time (s) over which the fixture lets go. `0`: at once (a step in the
+    /// force on the object). Positive: the wrench the fixture exerts at the end of the squeeze
+    /// ([`super::release::fixture_wrench`]) is applied to the freed object and ramped linearly
+    /// to zero over this time ([`super::release::release_gradually`]), so the squeezing fingers
+    /// take the object over quasi-statically. Default: 0.
+    pub release: f64,
     /// An object that is not held counts as dropped if gravity moved it farther than this
     /// (m), as slipped (it moved in the hand but stayed near it) otherwise. Default: 0.1.
     pub drop_translation: f64,
@@ -133,6 +139,7 @@ impl Default for PhysicsCheckOptions {
             max_rotation: 0.35,
             drop_translation: 0.1,
             fixture: true,
+            release: 0.0,
             physics: PhysicsOptions {
                 contact_frequency: 30.0,
                 coupled_actuators: true,
@@ -148,7 +155,7 @@ impl PhysicsCheckOptions {
     ///
     /// # Errors
     /// [`GraspError::InvalidParameter`] for a non-positive gravity, duration or threshold, a
-    /// negative settle time or squeeze, `effort` and `balanced` set together (only one actuator
+    /// negative settle time, squeeze or release, `effort` and `balanced` set together (only one actuator
     /// model can drive the fingers), or a `grip_compliance` that is not finite and positive or
     /// is set without `balanced`.
     pub fn validate(&self) -> Result<()> {
@@ -161,7 +168,7 @@ impl PhysicsCheckOptions {
         ] {
             crate::planners::check_positive(name, v)?;
         }
-        for (name, v) in [("settle", self.settle), ("squeeze", self.squeeze)] {
+        for (name, v) in [("settle", self.settle), ("squeeze", self.squeeze), ("release", self.release)] {
             if !(v.is_finite() && v >= 0.0) {
                 return Err(GraspError::InvalidParameter { name, reason: format!("must be finite and >= 0, got {v}") });
             }
@@ -327,7 +334,7 @@ pub fn physics_check_with<E: PhysicsEngine>(
             super::grip_sim::after_squeeze(&mut engine, rid, hand, object, evaluation, grip, options)?;
         }
         if options.fixture {
-            engine.set_object_fixed(oid, false)?;
+            super::release::release_gradually(&mut engine, oid, object, options.release, dt)?;
         }
         Ok(engine)
     };
