@@ -15,8 +15,9 @@
 //! (spread evenly) are evaluated and `per_cell` of the force-closure palm grasps, spread
 //! evenly, are checked; the line shows `[force-closure palm grasps] held/checked`. A check whose
 //! simulation diverges ([`CoreError::Physics`]) counts as checked and not held, and is reported.
-//! `explain=1` repeats each check's clamped squeeze and prints its contacts' total normal force
-//! `ΣN` (the palm's share), `μΣN / mg` and the fixture's load / mg, then counts held per class:
+//! `palm_push=d` (m) moves each grasp's hand `d` further along its approach direction (into
+//! the object) before the check. `explain=1` repeats each check's clamped squeeze and prints its contacts' total normal force
+//! `ΣN` (the palm's share), `μΣN / mg`, the fixture's load / mg and the deepest penetration, then counts held per class:
 //! weak (`μΣN < mg`: friction cannot carry the weight across the squeeze) and pushed out (the
 //! fixture holds more than the weight: the grip alone pushes the object out when freed).
 
@@ -30,7 +31,7 @@ mod common;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut options = PhysicsCheckOptions::default();
-    let (mut per_cell, mut only, mut explain) = (3usize, String::new(), false);
+    let (mut per_cell, mut only, mut explain, mut palm_push) = (3usize, String::new(), false, 0.0);
     for arg in std::env::args().skip(1) {
         let (key, value) = arg.split_once('=').ok_or_else(|| format!("expected KEY=VALUE, got `{arg}`"))?;
         let p = &mut options.physics;
@@ -52,6 +53,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "per_cell" => per_cell = value.parse()?,
             "hand" => only = value.to_string(),
             "explain" => explain = value != "0",
+            "palm_push" => palm_push = value.parse()?,
             _ => return Err(format!("unknown key `{key}`").into()),
         }
     }
@@ -72,7 +74,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 let k = per_cell.min(grasps.len());
                 let mut h = 0;
                 for j in 0..k {
-                    let grasp = &grasps[j * grasps.len() / k];
+                    let mut grasp = grasps[j * grasps.len() / k].clone();
+                    // The hand moved `palm_push` further along its approach, into the object.
+                    grasp.hand_pose *= nalgebra::Translation3::from(hand.approach().into_inner() * palm_push);
+                    let grasp = &grasp;
                     let outcome = match physics_check(&hand, &object, grasp, &options) {
                         Ok(outcome) => outcome,
                         // A simulation that blew up holds nothing; counted, and the sweep goes on.
@@ -92,12 +97,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         classes[class][0] += 1;
                         classes[class][1] += usize::from(outcome.held());
                         println!(
-                            "  {:17} {j}: sum N {:7.2} N (palm {:6.2}), mu sum N / mg {:5.2}, fixture / mg {:5.2}: {:?}",
+                            "  {:17} {j}: sum N {:7.2} N (palm {:6.2}), mu sum N / mg {:5.2}, fixture / mg {:5.2}, deepest {:4.1} mm: {:?}",
                             object.name,
                             s.normal,
                             s.palm,
                             object.friction * s.normal / weight,
                             s.fixture / weight,
+                            1e3 * s.depth,
                             outcome.result().unwrap_or(HoldResult::Dropped)
                         );
                     }

@@ -33,6 +33,8 @@ pub struct Squeeze {
     pub palm: f64,
     /// Magnitude of the force (N) the fixture holds the object with: the grip's net push.
     pub fixture: f64,
+    /// Deepest penetration (m) of a link into the object.
+    pub depth: f64,
 }
 
 /// Repeats the check's squeeze (`options.settle` with the object clamped) and sums its contacts.
@@ -56,7 +58,7 @@ pub fn clamped_squeeze(
     let dt = options.physics.timestep;
     engine.set_object_fixed(ObjectId(0), true)?;
     engine.step_n((options.settle / dt).ceil() as usize, dt)?;
-    let mut out = Squeeze { normal: 0.0, palm: 0.0, fixture: 0.0 };
+    let mut out = Squeeze { normal: 0.0, palm: 0.0, fixture: 0.0, depth: 0.0 };
     for c in engine.contacts() {
         let link = match (c.body1, c.body2) {
             (ContactBody::Link { link, .. }, ContactBody::Object(_)) => link,
@@ -64,6 +66,7 @@ pub fn clamped_squeeze(
             _ => continue,
         };
         out.normal += c.normal_force;
+        out.depth = out.depth.max(-c.distance);
         if link == hand.palm() {
             out.palm += c.normal_force;
         }
