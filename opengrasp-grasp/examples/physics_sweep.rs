@@ -90,7 +90,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     };
                     h += usize::from(outcome.held());
                     if explain {
-                        let s = common::clamped_squeeze(&hand, &object, grasp, &options)?;
+                        let s = clamped_squeeze(&hand, &object, grasp, &options)?;
                         let weight = object.inertial.mass * options.gravity;
                         let (weak, pushed) = (object.friction * s.normal < weight, s.fixture > weight);
                         let class = 2 * usize::from(weak) + usize::from(pushed);
@@ -126,4 +126,60 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     Ok(())
+}
+
+/// What the physics check's clamped squeeze of one grasp ends with (position or effort control;
+/// the balanced-grip modes are not reproduced).
+pub struct Squeeze {
+    /// Sum of the contacts' normal forces on the object (N).
+    pub normal: f64,
+    /// The palm's share of it (N). Zero while the object is clamped if the palm is on the
+    /// hand's fixed root: rapier makes no contacts between two fixed bodies, so the palm takes
+    /// load only once the object is freed.
+    pub palm: f64,
+    /// Magnitude of the force (N) the fixture holds the object with: the grip's net push
+    /// ([`opengrasp_grasp::evaluator::fixture_wrench`], whose probe frees the object, so a palm
+    /// it touches is counted).
+    pub fixture: f64,
+    /// Deepest penetration (m) of a link into the object.
+    pub depth: f64,
+}
+
+/// Repeats the check's squeeze (`options.settle` with the object clamped) and sums its contacts.
+pub fn clamped_squeeze(
+    hand: &opengrasp_core::hand::Hand,
+    object: &opengrasp_core::object::ObjectModel,
+    grasp: &opengrasp_grasp::evaluator::GraspEvaluation,
+    options: &opengrasp_grasp::evaluator::PhysicsCheckOptions,
+) -> Result<Squeeze, Box<dyn std::error::Error>> {
+    use opengrasp_core::physics::{ContactBody, PhysicsEngine, RapierBackend};
+    use opengrasp_core::scene::ObjectId;
+    use opengrasp_grasp::tactile::sources::{squeeze_engine, TactileSeriesOptions};
+    let squeeze = TactileSeriesOptions {
+        squeeze: options.squeeze,
+        effort: options.effort,
+        gravity: nalgebra::Vector3::zeros(),
+        physics: options.physics.clone(),
+        ..TactileSeriesOptions::default()
+    };
+    let (mut engine, _) = squeeze_engine::<RapierBackend>(hand, object, grasp, &squeeze)?;
+    let dt = options.physics.timestep;
+    engine.set_object_fixed(ObjectId(0), true)?;
+    engine.step_n((options.settle / dt).ceil() as usize, dt)?;
+    let mut out = Squeeze { normal: 0.0, palm: 0.0, fixture: 0.0, depth: 0.0 };
+    for c in engine.contacts() {
+        let link = match (c.body1, c.body2) {
+            (ContactBody::Link { link, .. }, ContactBody::Object(_)) => link,
+            (ContactBody::Object(_), ContactBody::Link { link, .. }) => link,
+            _ => continue,
+        };
+        out.normal += c.normal_force;
+        out.depth = out.depth.max(-c.distance);
+        if link == hand.palm() {
+            out.palm += c.normal_force;
+        }
+    }
+    let wrench = opengrasp_grasp::evaluator::fixture_wrench(&engine, ObjectId(0), object, dt)?;
+    out.fixture = wrench.map_or(0.0, |(f, _)| f.norm());
+    Ok(out)
 }
