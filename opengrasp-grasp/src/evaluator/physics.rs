@@ -106,7 +106,11 @@ pub struct PhysicsCheckOptions {
     /// force on the object). Positive: the wrench the fixture exerts at the end of the squeeze
     /// ([`super::release::fixture_wrench`]) is applied to the freed object and ramped linearly
     /// to zero over this time ([`super::release::release_gradually`]), so the squeezing fingers
-    /// take the object over quasi-statically. Default: 0.
+    /// take the object over quasi-statically. Default: 0: measured (`physics_sweep per_cell=5
+    /// release=0.1`, held/checked Barrett, ARMAR-III) 22/79, 0/80 against 24/79, 0/80 at once
+    /// (0.05 squeeze, 8 iterations); 40/79, 6/80 against 39/79, 6/80 (0.2 squeeze, 16
+    /// iterations). Traced, the grips that fail are out of balance by many times the weight,
+    /// which no release rate can fix.
     pub release: f64,
     /// An object that is not held counts as dropped if gravity moved it farther than this
     /// (m), as slipped (it moved in the hand but stayed near it) otherwise. Default: 0.1.
