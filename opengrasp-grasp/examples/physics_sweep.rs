@@ -10,12 +10,20 @@
 //! grip torques; 0: off), `grip_margin`, `compliance` (rad: the balanced grip as joint springs,
 //! full effort at this deflection; 0: off), `resolve` (0/1: re-solve the balanced grip on
 //! the simulated contacts after the squeeze), `contact_hz`, `iterations`, `timestep` (s), `fixture`
-//! (0/1), `coupled` (0/1), `per_cell` (grasps per planner and object, default 3), `hand`
+//! (0/1), `release` (s: the fixture's wrench ramped to zero over this time; 0: at once), `coupled` (0/1), `per_cell` (grasps per planner and object, default 3), `hand`
 //! (`barrett` or `armar3`; default both). Per object and planner the first 128 candidates
 //! (spread evenly) are evaluated and `per_cell` of the force-closure palm grasps, spread
-//! evenly, are checked; the line shows `[force-closure palm grasps] held/checked`.
+//! evenly, are checked; the line shows `[force-closure palm grasps] held/checked`. A check whose
+//! simulation diverges ([`CoreError::Physics`]) counts as checked and not held, and is reported.
+//! `palm_push=d` (m) moves each grasp's hand `d` further along its approach direction (into
+//! the object) before the check. `explain=1` repeats each check's clamped squeeze and prints its contacts' total normal force
+//! `ΣN` (the palm's share), `μΣN / mg`, the fixture's load / mg and the deepest penetration, then counts held per class:
+//! weak (`μΣN < mg`: friction cannot carry the weight across the squeeze) and pushed out (the
+//! fixture holds more than the weight: the grip alone pushes the object out when freed).
 
 use opengrasp_assets::{hands, objects};
+use opengrasp_core::error::CoreError;
+use opengrasp_grasp::error::GraspError;
 use opengrasp_grasp::evaluator::{physics_check, EvaluatorOptions, GraspEvaluator, HoldResult, PhysicsCheckOptions};
 use opengrasp_grasp::planners::{GraspPlanner, MedialAxisPlanner, SurfaceNormalPlanner};
 
@@ -23,7 +31,7 @@ mod common;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut options = PhysicsCheckOptions::default();
-    let (mut per_cell, mut only) = (3usize, String::new());
+    let (mut per_cell, mut only, mut explain, mut palm_push) = (3usize, String::new(), false, 0.0);
     for arg in std::env::args().skip(1) {
         let (key, value) = arg.split_once('=').ok_or_else(|| format!("expected KEY=VALUE, got `{arg}`"))?;
         let p = &mut options.physics;
@@ -40,9 +48,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "iterations" => p.solver_iterations = value.parse()?,
             "timestep" => p.timestep = value.parse()?,
             "fixture" => options.fixture = value != "0",
+            "release" => options.release = value.parse()?,
             "coupled" => p.coupled_actuators = value != "0",
             "per_cell" => per_cell = value.parse()?,
             "hand" => only = value.to_string(),
+            "explain" => explain = value != "0",
+            "palm_push" => palm_push = value.parse()?,
             _ => return Err(format!("unknown key `{key}`").into()),
         }
     }
@@ -51,7 +62,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         if !only.is_empty() && only != name {
             continue;
         }
-        let (mut checked, mut held, mut slipped) = (0, 0, 0);
+        let (mut checked, mut held, mut slipped, mut diverged) = (0, 0, 0, 0);
+        // Per class of clamped squeeze (weak? pushed out?): checked and held.
+        let mut classes = [[0usize; 2]; 4];
         for object in objects::NAMES.split_at(8).0 {
             let object = objects::by_name(object)?;
             let mut evaluator = GraspEvaluator::new(&hand, &object, EvaluatorOptions::default())?;
@@ -61,8 +74,39 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 let k = per_cell.min(grasps.len());
                 let mut h = 0;
                 for j in 0..k {
-                    let outcome = physics_check(&hand, &object, &grasps[j * grasps.len() / k], &options)?;
+                    let mut grasp = grasps[j * grasps.len() / k].clone();
+                    // The hand moved `palm_push` further along its approach, into the object.
+                    grasp.hand_pose *= nalgebra::Translation3::from(hand.approach().into_inner() * palm_push);
+                    let grasp = &grasp;
+                    let outcome = match physics_check(&hand, &object, grasp, &options) {
+                        Ok(outcome) => outcome,
+                        // A simulation that blew up holds nothing; counted, and the sweep goes on.
+                        Err(GraspError::Core(CoreError::Physics { reason })) => {
+                            eprintln!("{name} {} grasp {j}: {reason}", object.name);
+                            diverged += 1;
+                            continue;
+                        }
+                        Err(e) => return Err(e.into()),
+                    };
                     h += usize::from(outcome.held());
+                    if explain {
+                        let s = clamped_squeeze(&hand, &object, grasp, &options)?;
+                        let weight = object.inertial.mass * options.gravity;
+                        let (weak, pushed) = (object.friction * s.normal < weight, s.fixture > weight);
+                        let class = 2 * usize::from(weak) + usize::from(pushed);
+                        classes[class][0] += 1;
+                        classes[class][1] += usize::from(outcome.held());
+                        println!(
+                            "  {:17} {j}: sum N {:7.2} N (palm {:6.2}), mu sum N / mg {:5.2}, fixture / mg {:5.2}, deepest {:4.1} mm: {:?}",
+                            object.name,
+                            s.normal,
+                            s.palm,
+                            object.friction * s.normal / weight,
+                            s.fixture / weight,
+                            1e3 * s.depth,
+                            outcome.result().unwrap_or(HoldResult::Dropped)
+                        );
+                    }
                     slipped += usize::from(outcome.result() == Some(HoldResult::Slipped));
                 }
                 checked += k;
@@ -72,7 +116,70 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             println!("{line}");
         }
         let rate = 100.0 * held as f64 / checked.max(1) as f64;
-        println!("{name}: held {held}/{checked} ({rate:.0} %), slipped {slipped}");
+        println!("{name}: held {held}/{checked} ({rate:.0} %), slipped {slipped}, diverged {diverged}");
+        if explain {
+            for (class, label) in
+                ["strong, balanced", "strong, pushed out", "weak, balanced", "weak, pushed out"].iter().enumerate()
+            {
+                println!("{name}: {label:18} held {}/{}", classes[class][1], classes[class][0]);
+            }
+        }
     }
     Ok(())
+}
+
+/// What the physics check's clamped squeeze of one grasp ends with (position or effort control;
+/// the balanced-grip modes are not reproduced).
+pub struct Squeeze {
+    /// Sum of the contacts' normal forces on the object (N).
+    pub normal: f64,
+    /// The palm's share of it (N). Zero while the object is clamped if the palm is on the
+    /// hand's fixed root: rapier makes no contacts between two fixed bodies, so the palm takes
+    /// load only once the object is freed.
+    pub palm: f64,
+    /// Magnitude of the force (N) the fixture holds the object with: the grip's net push
+    /// ([`opengrasp_grasp::evaluator::fixture_wrench`], whose probe frees the object, so a palm
+    /// it touches is counted).
+    pub fixture: f64,
+    /// Deepest penetration (m) of a link into the object.
+    pub depth: f64,
+}
+
+/// Repeats the check's squeeze (`options.settle` with the object clamped) and sums its contacts.
+pub fn clamped_squeeze(
+    hand: &opengrasp_core::hand::Hand,
+    object: &opengrasp_core::object::ObjectModel,
+    grasp: &opengrasp_grasp::evaluator::GraspEvaluation,
+    options: &opengrasp_grasp::evaluator::PhysicsCheckOptions,
+) -> Result<Squeeze, Box<dyn std::error::Error>> {
+    use opengrasp_core::physics::{ContactBody, PhysicsEngine, RapierBackend};
+    use opengrasp_core::scene::ObjectId;
+    use opengrasp_grasp::tactile::sources::{squeeze_engine, TactileSeriesOptions};
+    let squeeze = TactileSeriesOptions {
+        squeeze: options.squeeze,
+        effort: options.effort,
+        gravity: nalgebra::Vector3::zeros(),
+        physics: options.physics.clone(),
+        ..TactileSeriesOptions::default()
+    };
+    let (mut engine, _) = squeeze_engine::<RapierBackend>(hand, object, grasp, &squeeze)?;
+    let dt = options.physics.timestep;
+    engine.set_object_fixed(ObjectId(0), true)?;
+    engine.step_n((options.settle / dt).ceil() as usize, dt)?;
+    let mut out = Squeeze { normal: 0.0, palm: 0.0, fixture: 0.0, depth: 0.0 };
+    for c in engine.contacts() {
+        let link = match (c.body1, c.body2) {
+            (ContactBody::Link { link, .. }, ContactBody::Object(_)) => link,
+            (ContactBody::Object(_), ContactBody::Link { link, .. }) => link,
+            _ => continue,
+        };
+        out.normal += c.normal_force;
+        out.depth = out.depth.max(-c.distance);
+        if link == hand.palm() {
+            out.palm += c.normal_force;
+        }
+    }
+    let wrench = opengrasp_grasp::evaluator::fixture_wrench(&engine, ObjectId(0), object, dt)?;
+    out.fixture = wrench.map_or(0.0, |(f, _)| f.norm());
+    Ok(out)
 }

@@ -28,7 +28,14 @@ pub struct PhysicsCheckOptions {
     /// The closing joints (those with a non-zero closing velocity) are commanded this far (rad
     /// or m) beyond the closed configuration, so the motors keep pressing the fingers against
     /// the object (with the simulator's joint stiffness, capped at the joints' effort limits).
-    /// Default: 0.05. Used only without `effort`.
+    /// Default: 0.4, as a hand told to close keeps squeezing past the first touch. At the 30 Hz
+    /// contacts the grip force grows with how far the fingers sink in: with 0.05 the ARMAR-III
+    /// fingers (8 g phalanges) pressed 7.9 N in total (median over 80 benchmark grasps), too
+    /// little for friction to carry the objects' weight (μ ΣN / m g median 0.88); with 0.4
+    /// they press 120–170 N, sinking about 15 mm into the object (Barrett 6–8 mm). Measured
+    /// (`physics_sweep per_cell=5 iterations=16 squeeze=…`, held/checked Barrett, ARMAR-III):
+    /// 0.05: 28/79, 0/80; 0.2: 39/79, 6/80; 0.4: 42/79, 11/80; 1: 36/79, 6/80; 3 (to the
+    /// joint limits): 35/79, 5/80. Used only without `effort`.
     pub squeeze: f64,
     /// `Some(f)`: the closing joints are stall-torque actuators
     /// ([`opengrasp_core::physics::JointTarget::Effort`]): each of the hand's closing motors
@@ -95,6 +102,16 @@ pub struct PhysicsCheckOptions {
     /// contacts then released millimetres of penetration at once and threw objects out of
     /// the Barrett hand.) Default: true.
     pub fixture: bool,
+    /// With `fixture`: time (s) over which the fixture lets go. `0`: at once (a step in the
+    /// force on the object). Positive: the wrench the fixture exerts at the end of the squeeze
+    /// ([`super::release::fixture_wrench`]) is applied to the freed object and ramped linearly
+    /// to zero over this time ([`super::release::release_gradually`]), so the squeezing fingers
+    /// take the object over quasi-statically. Default: 0: measured (`physics_sweep per_cell=5
+    /// release=0.1`, held/checked Barrett, ARMAR-III) 22/79, 0/80 against 24/79, 0/80 at once
+    /// (0.05 squeeze, 8 iterations); 40/79, 6/80 against 39/79, 6/80 (0.2 squeeze, 16
+    /// iterations). Traced, the grips that fail are out of balance by many times the weight,
+    /// which no release rate can fix.
+    pub release: f64,
     /// An object that is not held counts as dropped if gravity moved it farther than this
     /// (m), as slipped (it moved in the hand but stayed near it) otherwise. Default: 0.1.
     pub drop_translation: f64,
@@ -104,9 +121,12 @@ pub struct PhysicsCheckOptions {
     /// default): with stiffer contacts an object squeezed hard creeps through the grip by
     /// centimetres per second (a solver artefact, measured with rapier 0.30); and
     /// [`PhysicsOptions::coupled_actuators`] on, so each of the hand's motors drives its coupled
-    /// joints with its own torque in total; and [`PhysicsOptions::independent_chains`] on (each
+    /// joints with its own torque in total; [`PhysicsOptions::independent_chains`] on (each
     /// finger its own multibody: the same dynamics at half the cost; rounding differs from one
-    /// multibody, which flipped 1 of 64 default-suite checks, a marginal Barrett green-cup grasp).
+    /// multibody, which flipped 1 of 64 default-suite checks, a marginal Barrett green-cup grasp);
+    /// and 16 solver iterations (rapier 0.30 takes one small step per iteration): with 8, 1 of
+    /// 159 benchmark checks diverged at the 0.05 squeeze and 3 at 0.4, and Barrett held 29/79
+    /// at 0.4 (42/79 with 16), for about 1.6× the check's CPU time.
     pub physics: PhysicsOptions,
 }
 
@@ -123,7 +143,7 @@ impl Default for PhysicsCheckOptions {
             gravity: 9.81,
             settle: 0.2,
             duration: 0.5,
-            squeeze: 0.05,
+            squeeze: 0.4,
             effort: None,
             balanced: None,
             grip_margin: 0.5,
@@ -133,8 +153,10 @@ impl Default for PhysicsCheckOptions {
             max_rotation: 0.35,
             drop_translation: 0.1,
             fixture: true,
+            release: 0.0,
             physics: PhysicsOptions {
                 contact_frequency: 30.0,
+                solver_iterations: 16,
                 coupled_actuators: true,
                 independent_chains: true,
                 ..PhysicsOptions::default()
@@ -148,7 +170,7 @@ impl PhysicsCheckOptions {
     ///
     /// # Errors
     /// [`GraspError::InvalidParameter`] for a non-positive gravity, duration or threshold, a
-    /// negative settle time or squeeze, `effort` and `balanced` set together (only one actuator
+    /// negative settle time, squeeze or release, `effort` and `balanced` set together (only one actuator
     /// model can drive the fingers), or a `grip_compliance` that is not finite and positive or
     /// is set without `balanced`.
     pub fn validate(&self) -> Result<()> {
@@ -161,7 +183,7 @@ impl PhysicsCheckOptions {
         ] {
             crate::planners::check_positive(name, v)?;
         }
-        for (name, v) in [("settle", self.settle), ("squeeze", self.squeeze)] {
+        for (name, v) in [("settle", self.settle), ("squeeze", self.squeeze), ("release", self.release)] {
             if !(v.is_finite() && v >= 0.0) {
                 return Err(GraspError::InvalidParameter { name, reason: format!("must be finite and >= 0, got {v}") });
             }
@@ -327,7 +349,7 @@ pub fn physics_check_with<E: PhysicsEngine>(
             super::grip_sim::after_squeeze(&mut engine, rid, hand, object, evaluation, grip, options)?;
         }
         if options.fixture {
-            engine.set_object_fixed(oid, false)?;
+            super::release::release_gradually(&mut engine, oid, object, options.release, dt)?;
         }
         Ok(engine)
     };

@@ -1,0 +1,69 @@
+//! A gradual fixture release ([`PhysicsCheckOptions::release`]): the wrench the fixture put on
+//! the clamped object is applied to the freed object and ramped to zero, so the squeezing
+//! fingers take the load over quasi-statically instead of as a step.
+
+use nalgebra::{Matrix3, Vector3};
+use opengrasp_core::object::ObjectModel;
+use opengrasp_core::physics::PhysicsEngine;
+use opengrasp_core::scene::ObjectId;
+
+use crate::error::Result;
+
+/// Fixed-point iterations of the fixture wrench estimate: each probes one substep with the
+/// current estimate applied and adds what is left over.
+const PROBES: usize = 3;
+
+/// The wrench (force at the centre of mass, torque about it; world frame, N and N·m) the
+/// fixture exerts on the clamped object `oid` of `engine`: minus the net wrench of everything
+/// else (the contacts). Measured on copies of the engine: the object is freed for one substep
+/// of `dt` with the estimate applied, and the velocity it gains from rest, times its mass
+/// (inertia), is what the estimate missed. `None` if the backend cannot copy its state.
+///
+/// # Errors
+/// [`crate::GraspError::Core`] from the engine.
+pub fn fixture_wrench<E: PhysicsEngine>(
+    engine: &E,
+    oid: ObjectId,
+    object: &ObjectModel,
+    dt: f64,
+) -> Result<Option<(Vector3<f64>, Vector3<f64>)>> {
+    let rotation = engine.object_pose(oid)?.rotation.to_rotation_matrix();
+    let inertia: Matrix3<f64> = rotation.matrix() * object.inertial.inertia * rotation.matrix().transpose();
+    let (mut force, mut torque) = (Vector3::zeros(), Vector3::zeros());
+    for _ in 0..PROBES {
+        let Some(mut probe) = engine.snapshot() else { return Ok(None) };
+        probe.set_object_fixed(oid, false)?;
+        probe.set_object_force(oid, force, torque)?;
+        probe.step(dt)?;
+        let v = probe.object_velocity(oid)?;
+        force -= v.linear * (object.inertial.mass / dt);
+        torque -= inertia * v.angular / dt;
+    }
+    Ok(Some((force, torque)))
+}
+
+/// Frees the clamped object `oid` and ramps the fixture's wrench ([`fixture_wrench`]) from its
+/// full value to zero linearly over `duration` (steps of `dt`); then no external wrench is
+/// left. A `duration` of zero frees it at once, as does a backend without snapshots.
+///
+/// # Errors
+/// [`crate::GraspError::Core`] from the engine.
+pub fn release_gradually<E: PhysicsEngine>(
+    engine: &mut E,
+    oid: ObjectId,
+    object: &ObjectModel,
+    duration: f64,
+    dt: f64,
+) -> Result<()> {
+    let steps = (duration / dt).ceil() as usize;
+    let wrench = if steps > 0 { fixture_wrench(engine, oid, object, dt)? } else { None };
+    engine.set_object_fixed(oid, false)?;
+    let Some((force, torque)) = wrench else { return Ok(()) };
+    for k in 0..steps {
+        let s = 1.0 - (k as f64 + 0.5) / steps as f64;
+        engine.set_object_force(oid, force * s, torque * s)?;
+        engine.step(dt)?;
+    }
+    engine.set_object_force(oid, Vector3::zeros(), Vector3::zeros())?;
+    Ok(())
+}
