@@ -122,17 +122,14 @@ impl SphereWorld {
             }
         }
         // Per test, the reciprocal of its bound per step (∞ if it cannot change), the bound
-        // inflated against rounding: computed when the test first passes (NaN until then),
-        // so a motion that fails early pays for the few tests it ran, not for all of them.
-        let dim = self.dim().max(1);
+        // inflated against rounding.
+        let dim = self.dim();
         let cert = &self.cert;
-        let per_step = |t: usize| {
-            let w = &cert.weights[t * dim..(t + 1) * dim];
+        s.per_step.clear();
+        s.per_step.extend(cert.weights.chunks_exact(dim.max(1)).map(|w| {
             let d: f64 = w.iter().zip(a).zip(b).map(|((w, x), y)| w * (y - x).abs()).sum();
             n.max(1) as f64 / (d * (1.0 + 1e-9))
-        };
-        s.per_step.clear();
-        s.per_step.resize(cert.tests.len(), f64::NAN);
+        }));
         // Per test, a bit per state index: certified (bit 0, the start, is never checked).
         s.certified.clear();
         s.certified.resize(cert.tests.len(), 0);
@@ -174,9 +171,6 @@ impl SphereWorld {
                     };
                     // States within reach of `i`: `⌊(gap − slack) / per step⌋`, saturating
                     // (negative → 0, ∞ → all).
-                    if s.per_step[t].is_nan() {
-                        s.per_step[t] = per_step(t);
-                    }
                     let reach = (((gap - SLACK) * s.per_step[t]) as usize).min(n);
                     let (lo, hi) = (i.saturating_sub(reach), (i + reach).min(n));
                     bits |= (u64::MAX >> (63 - hi)) & (u64::MAX << lo);
