@@ -27,7 +27,7 @@ use opengrasp_bench::clean_table::{clean_the_table, CleanTheTableOptions};
 use opengrasp_bench::problem_sets::load_problem_sets;
 use opengrasp_bench::scenes::{armar_standard_scene, standard_scene, CheckerKind};
 use opengrasp_motion::benchmark::{postprocessing_options, BenchmarkOptions, BenchmarkScene, SceneInstance};
-use opengrasp_motion::planners::{NeighborStructure, RrtConnect};
+use opengrasp_motion::planners::{NeighborStructure, RrtConnect, RrtConnectOptions};
 use opengrasp_motion::problem_set::PlanningModel;
 use opengrasp_motion::smoothing::{repair, repair_with, shortcut, shortcut_with, ShortcutOptions};
 use opengrasp_motion::validity::cover::GreedyCoverOptions;
@@ -122,12 +122,14 @@ fn mbm_panda(c: &mut Criterion) {
             (0..set.len()).map(|i| set.instance_with(i, &model).expect("problem instance")).collect();
         let uncertified: Vec<_> =
             (0..set.len()).map(|i| set.instance_with(i, &uncertified).expect("problem instance")).collect();
-        let mut planner = RrtConnect::default();
-        for (row, on_spheres, instances) in [
-            ("rrt_connect_plan", false, &instances),
-            ("rrt_connect_spheres", true, &instances),
-            ("rrt_connect_spheres_uncertified", true, &uncertified),
+        // `rrt_connect_spheres_vamp_like`: the problem-set settings (tree balancing, range 1.0).
+        for (row, on_spheres, instances, options) in [
+            ("rrt_connect_plan", false, &instances, RrtConnectOptions::default()),
+            ("rrt_connect_spheres", true, &instances, RrtConnectOptions::default()),
+            ("rrt_connect_spheres_uncertified", true, &uncertified, RrtConnectOptions::default()),
+            ("rrt_connect_spheres_vamp_like", true, &instances, RrtConnectOptions::vamp_like()),
         ] {
+            let mut planner = RrtConnect::new(options);
             let mut k = 0usize;
             c.bench_function(&format!("mbm/{}/{row}", set.name()), |b| {
                 b.iter(|| {

@@ -7,7 +7,10 @@
 //! comparable on a loaded machine where timings do not. Prints the solved runs, the states
 //! checked and the planning time (mean and median per run; the model's pair tables,
 //! `SphereWorld::with_pair_tables`, are built with the model, before any timed plan; with the
-//! environment variable `NO_PAIR_TABLES` set it plans without them).
+//! environment variable `NO_PAIR_TABLES` set it plans without them; with `NO_CERTIFICATES`
+//! set motions run every test of every state, `SphereWorld::with_certified_motions(false)`;
+//! with `VAMP_LIKE` set it plans with `RrtConnectOptions::vamp_like`, range and radius
+//! arguments still applying on top).
 //!
 //! ```sh
 //! cargo run --release -p opengrasp-motion --example mbm_plan -- cage 20 10 [lanes|single [RADIUS|none [RANGE]]]
@@ -31,16 +34,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         problem_set::load(dir)?.iter().map(LoadedProblemSet::new).collect::<Result<_, _>>()?;
     let lanes = args.next().is_some_and(|a| a == "lanes");
     let dynamic_domain: Option<f64> = args.next().and_then(|s| s.parse().ok());
-    let mut options = RrtConnectOptions { dynamic_domain, ..RrtConnectOptions::default() };
+    // `VAMP_LIKE=1` starts from the problem-set settings (`RrtConnectOptions::vamp_like`).
+    let base = if std::env::var_os("VAMP_LIKE").is_some() {
+        RrtConnectOptions::vamp_like()
+    } else {
+        RrtConnectOptions::default()
+    };
+    let mut options = RrtConnectOptions { dynamic_domain, ..base };
     if let Some(range) = args.next() {
         options.range = range.parse()?;
     }
-    // `NO_PAIR_TABLES=1` plans without the pair distance tables (same verdicts and states).
+    // `NO_PAIR_TABLES=1` plans without the pair distance tables, `NO_CERTIFICATES=1` checks
+    // every state's tests in motions (same verdicts and states either way).
     let tables = std::env::var_os("NO_PAIR_TABLES").is_none();
     let layered = sets[0]
         .layered_sphere_model(GreedyCoverOptions::default())?
         .with_pair_tables(tables)
-        .with_batched_checks(lanes);
+        .with_batched_checks(lanes)
+        .with_certified_motions(std::env::var_os("NO_CERTIFICATES").is_none());
     let model = PlanningModel::Spheres(std::sync::Arc::new(layered));
     for set in sets.iter().filter(|s| s.name().contains(&filter)) {
         let instances: Vec<_> = (0..set.len()).map(|i| set.instance_with(i, &model)).collect::<Result<_, _>>()?;

@@ -254,7 +254,8 @@ impl SphereWorld {
     /// one state at a time (`false`, default). The verdicts and counts are the same; on the
     /// baseline x86-64 target (2 `f64` per vector, and the one-state kernels already vectorise
     /// across the spheres of a cluster) the batches are slower, because their states share
-    /// the culling: see the `mbm/*/…one_by_one` rows of the motion bench.
+    /// the culling (`mbm/*/…one_by_one` bench rows); and batched motions use neither
+    /// certificates ([`SphereWorld::with_certified_motions`]) nor pair tables.
     pub fn with_batched_checks(mut self, batched: bool) -> Self {
         self.batched = batched;
         self
