@@ -91,6 +91,27 @@ fn loading_validates_the_contents() {
         other => panic!("expected an invalid field, got {other:?}"),
     }
 
+    // Diverged physics checks are among the tested ones and never held.
+    let mut v: serde_json::Value = serde_json::from_str(&good).unwrap();
+    v["grasp"]["cells"][0]["physics_diverged"] = serde_json::json!(1);
+    match ResultsFile::from_json(&v.to_string()) {
+        Err(Error::Invalid { field, .. }) => assert_eq!(field, "grasp.cells[0].physics_diverged"),
+        other => panic!("expected an invalid field, got {other:?}"),
+    }
+    let cell = &mut v["grasp"]["cells"][0];
+    (cell["physics_tested"], cell["physics_held"]) = (serde_json::json!(2), serde_json::json!(2));
+    match ResultsFile::from_json(&v.to_string()) {
+        Err(Error::Invalid { field, reason }) => {
+            assert_eq!(
+                (field.as_str(), reason.as_str()),
+                ("grasp.cells[0].physics_held", "3 exceeds physics_tested (2)")
+            )
+        }
+        other => panic!("expected an invalid field, got {other:?}"),
+    }
+    v["grasp"]["cells"][0]["physics_held"] = serde_json::json!(1);
+    assert!(ResultsFile::from_json(&v.to_string()).is_ok());
+
     let mut v: serde_json::Value = serde_json::from_str(&good).unwrap();
     v["grasp"]["cells"][0]["force_closure_palm"] = serde_json::json!(11);
     assert!(matches!(ResultsFile::from_json(&v.to_string()), Err(Error::Invalid { .. })));

@@ -185,6 +185,20 @@ pub enum CoreError {
         /// The handle's index.
         index: usize,
     },
+    /// The simulation blew up: a dynamic body left the plausible range (farther than 1e6 m
+    /// from the origin, faster than 1e6 m/s, or not finite). Stepping on would panic inside the
+    /// broad phase, so the backend stops at the first substep that leaves a body there.
+    #[error(
+        "the simulation diverged at t = {time:.4} s: a body at {distance:e} m from the origin moving at {speed:e} m/s"
+    )]
+    SimulationDiverged {
+        /// Simulated time (s) of the substep that diverged.
+        time: f64,
+        /// The body's distance from the origin (m).
+        distance: f64,
+        /// The body's speed (m/s).
+        speed: f64,
+    },
     /// The physics backend reported an error.
     #[error("physics backend error: {reason}")]
     Physics {

@@ -14,7 +14,7 @@
 //! (`barrett` or `armar3`; default both). Per object and planner the first 128 candidates
 //! (spread evenly) are evaluated and `per_cell` of the force-closure palm grasps, spread
 //! evenly, are checked; the line shows `[force-closure palm grasps] held/checked`. A check whose
-//! simulation diverges ([`CoreError::Physics`]) counts as checked and not held, and is reported.
+//! simulation diverges ([`CoreError::SimulationDiverged`]) counts as checked and not held, and is reported.
 //! `palm_push=d` (m) moves each grasp's hand `d` further along its approach direction (into
 //! the object) before the check. `explain=1` repeats each check's clamped squeeze and prints its contacts' total normal force
 //! `ΣN` (the palm's share), `μΣN / mg`, the fixture's load / mg and the deepest penetration, then counts held per class:
@@ -81,8 +81,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     let outcome = match physics_check(&hand, &object, grasp, &options) {
                         Ok(outcome) => outcome,
                         // A simulation that blew up holds nothing; counted, and the sweep goes on.
-                        Err(GraspError::Core(CoreError::Physics { reason })) => {
-                            eprintln!("{name} {} grasp {j}: {reason}", object.name);
+                        Err(GraspError::Core(e @ CoreError::SimulationDiverged { .. })) => {
+                            eprintln!("{name} {} grasp {j}: {e}", object.name);
                             diverged += 1;
                             continue;
                         }

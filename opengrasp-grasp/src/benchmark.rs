@@ -58,13 +58,16 @@ use serde::{Deserialize, Serialize};
 
 use crate::contact::ObjectFrame;
 use crate::error::Result;
-use crate::evaluator::{EvaluationStatus, EvaluatorOptions, GraspEvaluator, HoldResult, PhysicsCheckOptions};
+use crate::evaluator::{EvaluationStatus, EvaluatorOptions, GraspEvaluator, PhysicsCheckOptions};
 use crate::planners::{
     GraspCandidate, GraspPlanner, GraspRequest, MedialAxisOptions, MedialAxisPlanner, SurfaceNormalOptions,
     SurfaceNormalPlanner,
 };
 use crate::tactile::sources::{evaluation_contacts, physics_tactile_series, TactileSeriesOptions, DEFAULT_GRIP_FORCE};
 use crate::tactile::{CompactFrame, PadSpec, TactileArray};
+
+mod tally;
+use tally::PhysicsTally;
 
 /// Configuration of [`run_grasp_benchmark`].
 #[derive(Clone, Debug, Default)]
@@ -223,13 +226,18 @@ pub struct CellResult {
     /// drop distance: the simulated grip itself pushes it out.
     #[serde(default)]
     pub physics_grip_moved: usize,
+    /// Of those, the ones whose simulation diverged (a body beyond 1e6 m or 1e6 m/s,
+    /// [`opengrasp_core::CoreError::SimulationDiverged`]): simulated, not held, no other outcome.
+    /// Written only when not 0, so records without divergences read as before.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub physics_diverged: usize,
     /// Of the simulated grasps, those the static torque-limited test
     /// ([`crate::evaluator::static_hold`], the object's friction) finds able to hold the
     /// object's weight in all six directions.
     #[serde(default)]
     pub static_holdable: usize,
-    /// Of the simulated grasps, those where the static test and the simulation agree (both hold
-    /// or both do not).
+    /// Of the simulated grasps whose simulation finished, those where the static test and the
+    /// simulation agree (both hold or both do not).
     #[serde(default)]
     pub static_agree: usize,
     /// Wall time for planning (s).
@@ -366,30 +374,27 @@ pub fn run_grasp_benchmark_with(
                     n if n % 2 == 1 => eps[n / 2],
                     n => 0.5 * (eps[n / 2 - 1] + eps[n / 2]),
                 };
-                let (mut physics_tested, mut physics_held) = (0, 0);
-                let (mut physics_slipped, mut physics_dropped, mut physics_grip_moved) = (0, 0, 0);
-                let (mut static_holdable, mut static_agree) = (0, 0);
+                let mut physics = PhysicsTally::default();
                 let mut held_by_evaluation = vec![None; evaluations.len()];
                 let mut series_by_evaluation = vec![Vec::new(); evaluations.len()];
                 if config.physics_per_cell > 0 && !fc_palm.is_empty() {
                     let m = config.physics_per_cell.min(fc_palm.len());
                     for j in 0..m {
                         let k = fc_palm[j * fc_palm.len() / m];
-                        let outcome = crate::evaluator::physics_check(hand, object, &evaluations[k], &config.physics)?;
-                        physics_tested += 1;
-                        physics_held += usize::from(outcome.held());
-                        physics_slipped += usize::from(outcome.result() == Some(HoldResult::Slipped));
-                        physics_dropped += usize::from(outcome.result() == Some(HoldResult::Dropped));
-                        physics_grip_moved += usize::from(outcome.grip_translation > config.physics.drop_translation);
-                        held_by_evaluation[k] = Some(outcome.held());
+                        let check = crate::evaluator::physics_check(hand, object, &evaluations[k], &config.physics);
                         let statics = crate::evaluator::static_hold(
                             hand,
                             object,
                             &evaluations[k],
                             &crate::evaluator::StaticHoldOptions::default(),
                         )?;
-                        static_holdable += usize::from(statics.holdable());
-                        static_agree += usize::from(statics.holdable() == outcome.held());
+                        let Some(held) = physics.add(check, statics.holdable(), config.physics.drop_translation)?
+                        else {
+                            // A diverged simulation held nothing, and its squeeze has no series.
+                            held_by_evaluation[k] = Some(false);
+                            continue;
+                        };
+                        held_by_evaluation[k] = Some(held);
                         if let (Some((array, _)), Some(options)) =
                             (&tactile, config.tactile.as_ref().and_then(|t| t.series.as_ref()))
                         {
@@ -453,13 +458,14 @@ pub fn run_grasp_benchmark_with(
                     fc_percent_all: pct(fc_all, evaluations.len()),
                     mean_epsilon,
                     median_epsilon,
-                    physics_tested,
-                    physics_held,
-                    physics_slipped,
-                    physics_dropped,
-                    physics_grip_moved,
-                    static_holdable,
-                    static_agree,
+                    physics_tested: physics.tested,
+                    physics_held: physics.held,
+                    physics_slipped: physics.slipped,
+                    physics_dropped: physics.dropped,
+                    physics_grip_moved: physics.grip_moved,
+                    physics_diverged: physics.diverged,
+                    static_holdable: physics.static_holdable,
+                    static_agree: physics.static_agree,
                     planning_seconds,
                     evaluation_seconds,
                     evaluations_per_second: if evaluation_seconds > 0.0 {
@@ -509,4 +515,9 @@ fn tactile_frames(
             Ok(Some(array.read(&contacts).compact(array)))
         })
         .collect()
+}
+
+/// Serde's skip test for counts written only when not 0.
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }

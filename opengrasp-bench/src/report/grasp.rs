@@ -122,6 +122,12 @@ pub fn grasp_tables(g: &GraspSection) -> Vec<Table> {
                  rigid bodies; a necessary condition for holding)."
                     .into(),
             );
+            let diverged: usize = cells.iter().map(|c| c.physics_diverged).sum();
+            if diverged > 0 {
+                legend.push(format!(
+                    "{diverged} of the simulations diverged (a body beyond 1e6 m or 1e6 m/s): counted as simulated and not held."
+                ));
+            }
         }
         if hand_planners.iter().any(|p| with_paper(p)) {
             legend.push("p.n, p.FC%: the OpenGRASP paper's n and FC% for the same hand, object and planner.".into());

@@ -57,6 +57,8 @@ pub(super) fn validate_grasp(g: &GraspSection) -> Result<()> {
         at_most(&f("physics_held"), c.physics_held, "physics_tested", c.physics_tested)?;
         at_most(&f("static_holdable"), c.static_holdable, "physics_tested", c.physics_tested)?;
         at_most(&f("static_agree"), c.static_agree, "physics_tested", c.physics_tested)?;
+        at_most(&f("physics_diverged"), c.physics_diverged, "physics_tested", c.physics_tested)?;
+        at_most(&f("physics_held"), c.physics_held + c.physics_diverged, "physics_tested", c.physics_tested)?;
         percent(&f("fc_percent_palm"), c.fc_percent_palm)?;
         percent(&f("fc_percent_all"), c.fc_percent_all)?;
         non_negative(&f("mean_epsilon"), c.mean_epsilon)?;

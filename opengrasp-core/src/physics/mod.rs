@@ -296,7 +296,8 @@ pub trait PhysicsEngine: Send {
     /// [`PhysicsOptions::timestep`]).
     ///
     /// # Errors
-    /// [`CoreError::InvalidParameter`] if `dt` is not finite and positive.
+    /// [`CoreError::InvalidParameter`] if `dt` is not finite and positive;
+    /// [`CoreError::SimulationDiverged`] if a body left the plausible range (the rapier backend).
     fn step(&mut self, dt: f64) -> Result<()>;
 
     /// Calls [`PhysicsEngine::step`] `n` times.

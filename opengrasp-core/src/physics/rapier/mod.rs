@@ -143,7 +143,7 @@ struct DofState {
 }
 
 impl RapierBackend {
-    /// A typed error once the simulation has blown up: a dynamic body farther than
+    /// [`CoreError::SimulationDiverged`] once the simulation has blown up: a dynamic body farther than
     /// [`DIVERGED_DISTANCE`] from the origin, faster than [`DIVERGED_SPEED`], or not finite.
     /// Stepping such a world further panics inside parry's broad phase (its BVH bins overflow),
     /// so `step` stops at the first substep that leaves a body there.
@@ -152,13 +152,7 @@ impl RapierBackend {
             let (p, v) = (body.translation(), body.linvel());
             let (distance, speed) = (p.norm(), v.norm());
             if !(distance <= DIVERGED_DISTANCE && speed <= DIVERGED_SPEED) {
-                return Err(CoreError::Physics {
-                    reason: format!(
-                        "the simulation diverged at t = {:.4} s: a body at {distance:e} m from the origin moving at \
-                         {speed:e} m/s",
-                        self.time
-                    ),
-                });
+                return Err(CoreError::SimulationDiverged { time: self.time, distance, speed });
             }
         }
         Ok(())
