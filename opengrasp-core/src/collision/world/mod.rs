@@ -18,7 +18,7 @@ use super::shapes::{shapes_to_parts, Part};
 use super::{Collider, CollisionOptions};
 use crate::error::{CoreError, Result};
 use crate::kinematics::forward_kinematics_into;
-use crate::model::{LinkId, Robot};
+use crate::model::{JointKind, LinkId, Robot};
 use crate::scene::{BodyId, ObjectId, RobotId, Scene};
 
 /// A part of a static body, placed in the world.
@@ -82,6 +82,10 @@ struct RobotEntry {
     /// Link poses in the base frame at `q` (forward kinematics), kept so that moving the base
     /// alone (a floating hand placed at many poses) does not redo the kinematics.
     link_poses: Vec<Isometry3<f64>>,
+    /// Per link: only fixed joints between it and the root, so its pose (in `link_poses`) and
+    /// its parts' world poses and boxes (in `world`) are the same at every configuration;
+    /// queries copy them instead of recomputing them (the same operations gave them).
+    fixed_link: Vec<bool>,
 }
 
 impl RobotEntry {
@@ -124,6 +128,16 @@ impl RobotEntry {
     fn link_world_pose(&self, link: LinkId) -> Isometry3<f64> {
         self.base_pose * crate::kinematics::link_pose_unchecked(&self.robot, &self.q, link)
     }
+}
+
+/// Per link: true if every joint between the link and the root is fixed (the root included).
+fn fixed_links(robot: &Robot) -> Vec<bool> {
+    let mut fixed = vec![true; robot.links().len()];
+    for &j in robot.joints_topological() {
+        let joint = robot.joint(j);
+        fixed[joint.child.0] = fixed[joint.parent.0] && joint.kind == JointKind::Fixed;
+    }
+    fixed
 }
 
 /// Who a moving item (a shape that follows the queried robot) belongs to.
@@ -293,6 +307,7 @@ impl CollisionWorld {
                 self_pairs: Vec::new(),
                 world: Vec::new(),
                 link_poses: Vec::new(),
+                fixed_link: fixed_links(&r.robot),
             };
             entry.rebuild_self_pairs();
             entry.update_world();

@@ -31,7 +31,9 @@ impl CollisionWorld {
     /// carried objects by object), computing forward kinematics only along the chains of the
     /// links placed. The poses of the other links in `scratch.link_poses` are left as they
     /// were. Each pose is computed by the same operations whatever `wanted` is, so a part's
-    /// pose and bounding box do not depend on which other links are placed.
+    /// pose and bounding box do not depend on which other links are placed. Links behind fixed
+    /// joints only (a robot's base) are copied from the robot's entry, which computed them by
+    /// these operations too.
     pub(super) fn place_links(&self, rid: usize, q: &[f64], wanted: impl Fn(usize) -> bool, scratch: &mut Scratch) {
         let r = &self.robots[rid];
         let robot = &*r.robot;
@@ -58,14 +60,22 @@ impl CollisionWorld {
         poses[robot.root().0] = Isometry3::identity();
         for &j in robot.joints_topological().iter().filter(|j| scratch.joints[j.0]) {
             let joint = robot.joint(j);
-            poses[joint.child.0] = poses[joint.parent.0] * joint.origin * joint.motion(robot.joint_position(q, j));
+            poses[joint.child.0] = if r.fixed_link[joint.child.0] {
+                r.link_poses[joint.child.0]
+            } else {
+                poses[joint.parent.0] * joint.origin * joint.motion(robot.joint_position(q, j))
+            };
         }
         scratch.items.clear();
         for (l, &(start, end)) in r.link_parts.iter().enumerate().filter(|&(l, _)| scratch.links[l]) {
             for i in start..end {
-                let p = &r.parts[i as usize];
-                let pose = r.base_pose * poses[l] * p.local;
-                let aabb = p.shape.compute_aabb(&pose);
+                // Links behind fixed joints only: the pose and box `place_world` computed.
+                let (pose, aabb) = if r.fixed_link[l] {
+                    r.world[i as usize]
+                } else {
+                    let pose = r.base_pose * poses[l] * r.parts[i as usize].local;
+                    (pose, r.parts[i as usize].shape.compute_aabb(&pose))
+                };
                 scratch.items.push(Item { owner: Owner::Link { part: i }, link: LinkId(l), pose, aabb });
             }
         }

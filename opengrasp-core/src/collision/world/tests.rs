@@ -114,41 +114,85 @@ fn same_bits(a: &Isometry3<f64>, b: &Isometry3<f64>) -> bool {
     bits(a) == bits(b)
 }
 
-/// Placing a subset of the links gives each placed part the very pose and bounding box of
-/// full forward kinematics (the placement every query used before `place_links`), in the
-/// same order, and places nothing else.
+/// Asserts that placing the links of `mask` at `q` gives each placed part (and part of the
+/// carried object) the very pose and bounding box of full forward kinematics (the placement
+/// every query used before `place_links`), in the same order, and places nothing else.
+fn assert_placement_matches_full_fk(world: &CollisionWorld, robot: RobotId, q: &[f64], mask: &[bool]) {
+    let r = &world.robots[robot.0];
+    let mut full_poses = Vec::new();
+    crate::kinematics::forward_kinematics_into(&r.robot, q, &mut full_poses);
+    let mut reference: Vec<(LinkId, Isometry3<f64>)> =
+        r.parts.iter().zip(&r.part_link).map(|(p, l)| (*l, r.base_pose * full_poses[l.0] * p.local)).collect();
+    let (object, att) = world.objects.iter().find_map(|o| o.attached.as_ref().map(|a| (o, a))).unwrap();
+    let carried = r.base_pose * full_poses[att.link.0] * att.offset;
+    reference.extend(object.parts.iter().map(|p| (att.link, carried * p.local)));
+    let mut s = Scratch::default();
+    world.place_links(robot.0, q, |l| mask[l], &mut s);
+    let expected: Vec<&(LinkId, Isometry3<f64>)> = reference.iter().filter(|(l, _)| mask[l.0]).collect();
+    assert_eq!(s.items.len(), expected.len(), "{mask:?}");
+    for (item, (link, pose)) in s.items.iter().zip(expected) {
+        assert_eq!(item.link, *link);
+        assert!(same_bits(&item.pose, pose), "{mask:?}: {:?} vs {pose:?}", item.pose);
+        let aabb = world.item_shape(robot.0, item).compute_aabb(pose);
+        assert_eq!((item.aabb.mins, item.aabb.maxs), (aabb.mins, aabb.maxs));
+    }
+}
+
+/// Placing a subset of the links matches full forward kinematics bit for bit (see
+/// [`assert_placement_matches_full_fk`]).
 #[test]
 fn placed_links_match_full_forward_kinematics() {
     let (world, robot) = two_arm_world();
     let r = &world.robots[robot.0];
     let n = r.n_links();
     let mut rng = ChaCha8Rng::seed_from_u64(7);
-    let mut full_poses = Vec::new();
     for _ in 0..20 {
         let q = random_q(&r.robot, &mut rng);
-        // The reference: every link by full forward kinematics, then every part.
-        crate::kinematics::forward_kinematics_into(&r.robot, &q, &mut full_poses);
-        let mut reference: Vec<(LinkId, Isometry3<f64>)> =
-            r.parts.iter().zip(&r.part_link).map(|(p, l)| (*l, r.base_pose * full_poses[l.0] * p.local)).collect();
-        let (object, att) = world.objects.iter().find_map(|o| o.attached.as_ref().map(|a| (o, a))).unwrap();
-        let carried = r.base_pose * full_poses[att.link.0] * att.offset;
-        reference.extend(object.parts.iter().map(|p| (att.link, carried * p.local)));
         let masks = (0..n)
             .map(|l| (0..n).map(|k| k == l).collect::<Vec<bool>>())
             .chain(std::iter::once((0..n).map(|_| rng.random_bool(0.5)).collect()))
             .chain(std::iter::once(vec![true; n]));
         for mask in masks {
-            let mut s = Scratch::default();
-            world.place_links(robot.0, &q, |l| mask[l], &mut s);
-            let expected: Vec<&(LinkId, Isometry3<f64>)> = reference.iter().filter(|(l, _)| mask[l.0]).collect();
-            assert_eq!(s.items.len(), expected.len(), "{mask:?}");
-            for (item, (link, pose)) in s.items.iter().zip(expected) {
-                assert_eq!(item.link, *link);
-                assert!(same_bits(&item.pose, pose), "{mask:?}: {:?} vs {pose:?}", item.pose);
-                let aabb = world.item_shape(robot.0, item).compute_aabb(pose);
-                assert_eq!((item.aabb.mins, item.aabb.maxs), (aabb.mins, aabb.maxs));
-            }
+            assert_placement_matches_full_fk(&world, robot, &q, &mask);
         }
+    }
+}
+
+/// Only the root (the torso) is behind fixed joints alone: the tool hangs on a fixed joint
+/// but behind revolute ones. Its copied pose and box follow base moves, configuration changes
+/// and scene syncs bit for bit.
+#[test]
+fn links_behind_fixed_joints_follow_the_base() {
+    let (mut scene, robot) = two_arm_scene();
+    let mut world = CollisionWorld::new(&scene).unwrap();
+    let r = &world.robots[robot.0];
+    let torso = r.robot.link_id("torso").unwrap();
+    let fixed: Vec<usize> = (0..r.n_links()).filter(|&l| r.fixed_link[l]).collect();
+    assert_eq!(fixed, vec![torso.0]);
+    let model = r.robot.clone();
+    let all = vec![true; model.links().len()];
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    for step in 0..6 {
+        let base = Isometry3::new(
+            Vector3::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), 0.1 * step as f64),
+            Vector3::new(0.2, rng.random_range(-3.0..3.0), 0.5),
+        );
+        if step % 2 == 0 {
+            world.set_robot_base_pose(robot, base).unwrap();
+        } else {
+            scene.set_robot_base_pose(robot, base).unwrap();
+            scene.set_robot_configuration(robot, &random_q(&model, &mut rng)).unwrap();
+            world.sync(&scene).unwrap();
+        }
+        let q = random_q(&model, &mut rng);
+        assert_placement_matches_full_fk(&world, robot, &q, &all);
+        // The torso's box is where the moved base puts it (a 0.3 × 0.4 × 0.5 m box).
+        let mut s = Scratch::default();
+        world.place(robot.0, &q, &mut s);
+        let torso_item = s.items.iter().find(|i| i.link == torso).unwrap();
+        let centre = world.robots[robot.0].base_pose.translation.vector;
+        assert!((torso_item.pose.translation.vector - centre).norm() < 1e-12);
+        assert!((torso_item.aabb.center().coords - centre).norm() < 1e-12);
     }
 }
 
