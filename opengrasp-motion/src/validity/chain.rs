@@ -178,7 +178,12 @@ impl Chain {
                     let (s, c) = f.angle(qs[f.dof][l]).sin_cos();
                     (sc[0][l], sc[1][l]) = (s * sign, c);
                 }
-                out.push(turn_lanes(&m, i, &sc[0], &sc[1]));
+                // The axis a compile-time constant, so the index arithmetic folds away.
+                out.push(match i {
+                    0 => turn_lanes::<0>(&m, &sc[0], &sc[1]),
+                    1 => turn_lanes::<1>(&m, &sc[0], &sc[1]),
+                    _ => turn_lanes::<2>(&m, &sc[0], &sc[1]),
+                });
                 continue;
             }
             let mut motion = [[0.0; LANES]; 12];
@@ -229,8 +234,8 @@ fn coordinate_axis(axis: [f64; 3]) -> Option<(usize, f64)> {
 /// cos: the entries [`compose`] gives with [`Frame::motion`]'s Rodrigues matrix, bit for bit
 /// (the terms multiplied by an exact zero dropped, `c + (1 − c)` kept as Rodrigues rounds it).
 #[inline(always)]
-fn turn(a: &Mat34, i: usize, ss: f64, c: f64) -> Mat34 {
-    let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+fn turn<const I: usize>(a: &Mat34, ss: f64, c: f64) -> Mat34 {
+    let (i, j, k) = (I, (I + 1) % 3, (I + 2) % 3);
     let d = c + (1.0 - c);
     let mut out = *a;
     for r in (0..12).step_by(4) {
@@ -243,8 +248,8 @@ fn turn(a: &Mat34, i: usize, ss: f64, c: f64) -> Mat34 {
 
 /// [`turn`] in every lane (same operations, lanes innermost).
 #[inline(always)]
-fn turn_lanes(a: &[Lanes; 12], i: usize, ss: &Lanes, c: &Lanes) -> [Lanes; 12] {
-    let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+fn turn_lanes<const I: usize>(a: &[Lanes; 12], ss: &Lanes, c: &Lanes) -> [Lanes; 12] {
+    let (i, j, k) = (I, (I + 1) % 3, (I + 2) % 3);
     let mut out = *a;
     for r in (0..12).step_by(4) {
         for l in 0..LANES {
@@ -271,7 +276,11 @@ impl Frame {
         match self.aligned {
             Some((i, sign)) => {
                 let (s, c) = self.angle(q).sin_cos();
-                turn(m, i, s * sign, c)
+                match i {
+                    0 => turn::<0>(m, s * sign, c),
+                    1 => turn::<1>(m, s * sign, c),
+                    _ => turn::<2>(m, s * sign, c),
+                }
             }
             None => compose(m, &self.motion(q)),
         }
