@@ -53,6 +53,9 @@ struct Frame {
     fixed: Mat34,
     axis: [f64; 3],
     prismatic: bool,
+    /// For a revolute joint about a coordinate axis `sign · e_i`: `(i, sign)`, which
+    /// [`Frame::moved`] turns about with a third of the general composition's arithmetic.
+    aligned: Option<(usize, f64)>,
     /// Index of the driving joint in the group's values.
     dof: usize,
     scale: f64,
@@ -91,11 +94,14 @@ impl Chain {
                     let offset = robot.joint_position(&q, j);
                     q[d] = 1.0;
                     let scale = robot.joint_position(&q, j) - offset;
+                    let axis = [joint.axis.x, joint.axis.y, joint.axis.z];
+                    let prismatic = joint.kind == JointKind::Prismatic;
                     frames.push(Frame {
                         parent: pf,
                         fixed: at_origin,
-                        axis: [joint.axis.x, joint.axis.y, joint.axis.z],
-                        prismatic: joint.kind == JointKind::Prismatic,
+                        axis,
+                        prismatic,
+                        aligned: if prismatic { None } else { coordinate_axis(axis) },
                         dof: gi,
                         scale,
                         offset,
@@ -136,7 +142,7 @@ impl Chain {
     /// Moving frame `f`'s pose in its parent frame at driving value `q`.
     pub fn local(&self, f: usize, q: f64) -> Mat34 {
         let fr = &self.frames[f - 1];
-        compose(&fr.fixed, &fr.motion(q))
+        fr.moved(&fr.fixed, q)
     }
 
     /// Everything [`Chain::local`] of frame `f` depends on, as numbers (to tell whether two
@@ -153,7 +159,7 @@ impl Chain {
         out.push(IDENTITY);
         for f in &self.frames {
             let m = compose(&out[f.parent], &f.fixed);
-            out.push(compose(&m, &f.motion(q[f.dof])));
+            out.push(f.moved(&m, q[f.dof]));
         }
     }
 
@@ -166,6 +172,20 @@ impl Chain {
         out.push(IDENTITY.map(|v| [v; LANES]));
         for f in &self.frames {
             let m = compose_lanes(&out[f.parent], &f.fixed.map(|v| [v; LANES]));
+            if let Some((i, sign)) = f.aligned {
+                let mut sc = [[0.0; LANES]; 2];
+                for l in 0..LANES {
+                    let (s, c) = f.angle(qs[f.dof][l]).sin_cos();
+                    (sc[0][l], sc[1][l]) = (s * sign, c);
+                }
+                // The axis a compile-time constant, so the index arithmetic folds away.
+                out.push(match i {
+                    0 => turn_lanes::<0>(&m, &sc[0], &sc[1]),
+                    1 => turn_lanes::<1>(&m, &sc[0], &sc[1]),
+                    _ => turn_lanes::<2>(&m, &sc[0], &sc[1]),
+                });
+                continue;
+            }
             let mut motion = [[0.0; LANES]; 12];
             for l in 0..LANES {
                 let one = f.motion(qs[f.dof][l]);
@@ -203,11 +223,73 @@ fn compose_lanes(a: &[Lanes; 12], b: &[Lanes; 12]) -> [Lanes; 12] {
     out
 }
 
+/// `(i, sign)` if `axis` is `sign · e_i` exactly (as URDF axes `0 0 1`, `0 -1 0` are).
+fn coordinate_axis(axis: [f64; 3]) -> Option<(usize, f64)> {
+    let i = axis.iter().position(|v| v.abs() == 1.0)?;
+    let others_zero = axis.iter().enumerate().all(|(j, &v)| j == i || v == 0.0);
+    others_zero.then_some((i, axis[i]))
+}
+
+/// `a ∘ R` for the rotation `R` about coordinate axis `e_i` with `ss` = sign · sin, `c` =
+/// cos: the entries [`compose`] gives with [`Frame::motion`]'s Rodrigues matrix, bit for bit
+/// (the terms multiplied by an exact zero dropped, `c + (1 − c)` kept as Rodrigues rounds it).
+#[inline(always)]
+fn turn<const I: usize>(a: &Mat34, ss: f64, c: f64) -> Mat34 {
+    let (i, j, k) = (I, (I + 1) % 3, (I + 2) % 3);
+    let d = c + (1.0 - c);
+    let mut out = *a;
+    for r in (0..12).step_by(4) {
+        out[r + i] = a[r + i] * d;
+        out[r + j] = a[r + j] * c + a[r + k] * ss;
+        out[r + k] = a[r + k] * c - a[r + j] * ss;
+    }
+    out
+}
+
+/// [`turn`] in every lane (same operations, lanes innermost).
+#[inline(always)]
+fn turn_lanes<const I: usize>(a: &[Lanes; 12], ss: &Lanes, c: &Lanes) -> [Lanes; 12] {
+    let (i, j, k) = (I, (I + 1) % 3, (I + 2) % 3);
+    let mut out = *a;
+    for r in (0..12).step_by(4) {
+        for l in 0..LANES {
+            let d = c[l] + (1.0 - c[l]);
+            out[r + i][l] = a[r + i][l] * d;
+            out[r + j][l] = a[r + j][l] * c[l] + a[r + k][l] * ss[l];
+            out[r + k][l] = a[r + k][l] * c[l] - a[r + j][l] * ss[l];
+        }
+    }
+    out
+}
+
 impl Frame {
+    /// The joint value (angle or displacement) at driving value `q`.
+    #[inline(always)]
+    fn angle(&self, q: f64) -> f64 {
+        self.scale * q + self.offset
+    }
+
+    /// `m ∘ motion(q)`, the same numbers as [`compose`] with [`Frame::motion`] but cheaper
+    /// for a joint about a coordinate axis.
+    #[inline(always)]
+    fn moved(&self, m: &Mat34, q: f64) -> Mat34 {
+        match self.aligned {
+            Some((i, sign)) => {
+                let (s, c) = self.angle(q).sin_cos();
+                match i {
+                    0 => turn::<0>(m, s * sign, c),
+                    1 => turn::<1>(m, s * sign, c),
+                    _ => turn::<2>(m, s * sign, c),
+                }
+            }
+            None => compose(m, &self.motion(q)),
+        }
+    }
+
     /// The joint motion at driving value `q`.
     #[inline(always)]
     fn motion(&self, q: f64) -> Mat34 {
-        let v = self.scale * q + self.offset;
+        let v = self.angle(q);
         let [x, y, z] = self.axis;
         if self.prismatic {
             [1.0, 0.0, 0.0, x * v, 0.0, 1.0, 0.0, y * v, 0.0, 0.0, 1.0, z * v]
@@ -232,3 +314,6 @@ impl Frame {
         }
     }
 }
+
+#[cfg(test)]
+mod tests;
