@@ -40,7 +40,12 @@ struct BaseKitchen {
 }
 
 fn base_kitchen() -> BaseKitchen {
-    let (scene, rid, robot, group, q) = kitchen("base_hip_right_arm");
+    checked_kitchen("base_hip_right_arm")
+}
+
+/// `group` in the stock kitchen, with its exact checker and certifier.
+fn checked_kitchen(group: &str) -> BaseKitchen {
+    let (scene, rid, robot, group, q) = kitchen(group);
     let world = Arc::new(CollisionWorld::new(&scene).unwrap());
     let checker = CollisionChecker::new(world, rid, robot.clone(), group.clone(), q.clone()).unwrap();
     let certifier = certifier_for(&scene, rid, &group, &q, &checker).unwrap();
@@ -387,4 +392,39 @@ fn unknown_certificates_tell_exhausted_from_stuck() {
     }
     println!("{exhausted} exhausted, {stuck} stuck");
     assert!(exhausted >= 100 && stuck >= 20, "{exhausted} exhausted, {stuck} stuck");
+}
+
+/// The certifier keeps its buffers per thread between calls: certificates of two certifiers
+/// of different sizes (scene 1's hip and arm, Clean the Table's base, hip and arm), asked in
+/// turn on one thread, are those each gives alone on a fresh thread.
+#[test]
+fn interleaved_certifiers_give_the_certificates_of_fresh_ones() {
+    let (arm, base) = (checked_kitchen("hip_right_arm"), base_kitchen());
+    let margin = ValidationOptions::default().ccd.tolerance + 1e-6;
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let limits = [arm.group.limits(&arm.robot), base.group.limits(&base.robot)];
+    let centres = [arm.group.extract(&arm.q), base.group.extract(&base.q)];
+    assert_ne!(limits[0].len(), limits[1].len());
+    let draw = |rng: &mut ChaCha8Rng, k: usize, centre: &[f64], s: f64| -> Vec<f64> {
+        centre.iter().zip(&limits[k]).map(|(v, (lo, hi))| (v + rng.random_range(-s..=s)).clamp(*lo, *hi)).collect()
+    };
+    let motions: Vec<(usize, Vec<f64>, Vec<f64>)> = (0..40)
+        .map(|i| {
+            let k = i % 2;
+            let a = draw(&mut rng, k, &centres[k], 0.8);
+            (k, draw(&mut rng, k, &a, 0.5), a)
+        })
+        .collect();
+    let kitchens = [&arm, &base];
+    let certify = |(k, b, a): &(usize, Vec<f64>, Vec<f64>)| {
+        let kitchen = kitchens[*k];
+        kitchen.certifier.certify(a, b, kitchen.checker.motion_bound().unwrap(), margin, 300)
+    };
+    let interleaved: Vec<Certificate> = motions.iter().map(certify).collect();
+    let fresh: Vec<Certificate> =
+        std::thread::scope(|s| motions.iter().map(|m| s.spawn(|| certify(m)).join().unwrap()).collect());
+    assert_eq!(interleaved, fresh);
+    let free = interleaved.iter().filter(|c| **c == Certificate::Free).count();
+    println!("{free} of {} free", interleaved.len());
+    assert!(free >= 5 && free < interleaved.len(), "{free} free");
 }

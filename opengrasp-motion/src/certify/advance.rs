@@ -6,15 +6,19 @@
 //! are evaluated again. Every link and pair is thus covered by a gapless chain of certified
 //! intervals from 0 to its horizon, and the motion is free once every horizon reaches 1.
 
+use std::cell::RefCell;
+
 use nalgebra::{Isometry3, Vector3};
 
 use super::geometry::{distance, Placed};
 use super::{Certificate, SegmentCertifier, SphereCertifier, EXACT_BELOW};
 use crate::validity::MotionBound;
 
-/// The motion being certified: its bound and per-link and per-pair rates.
-struct Motion<'a> {
-    bound: &'a MotionBound,
+/// The motion being certified: `b − a` and its per-link and per-pair rates.
+#[derive(Default)]
+struct Motion {
+    /// `b − a` (group values).
+    dq: Vec<f64>,
     /// Per link slot: bound on the speed of its points.
     rates: Vec<f64>,
     /// Per link slot: bound on their vertical speed.
@@ -23,9 +27,16 @@ struct Motion<'a> {
     pair_rates: Vec<f64>,
 }
 
+thread_local! {
+    /// Buffers of [`SphereCertifier::certify`], kept between calls (sized per call).
+    static SCRATCH: RefCell<(Scratch, Motion)> = RefCell::default();
+}
+
 /// Buffers of [`SphereCertifier::certify`].
 #[derive(Default)]
 struct Scratch {
+    /// The state being placed (group values).
+    q: Vec<f64>,
     full: Vec<f64>,
     poses: Vec<Isometry3<f64>>,
     /// Per model: the step at which it was last placed, bounding ball, primitive range, z
@@ -54,10 +65,15 @@ impl Scratch {
     /// reaches the end of the motion; drops those that do from the active lists.
     fn earliest_horizon(&mut self) -> f64 {
         let Self { horizon, pair_horizon, active, active_pairs, .. } = self;
-        active.retain(|&k| horizon[k] < 1.0);
-        active_pairs.retain(|&p| pair_horizon[p] < 1.0);
-        let models = active.iter().map(|&k| horizon[k]);
-        models.chain(active_pairs.iter().map(|&p| pair_horizon[p])).fold(f64::INFINITY, f64::min)
+        // One pass per list: the minimum over the dropped ones is at least 1 as well.
+        let mut earliest = f64::INFINITY;
+        let mut keep = |h: f64| {
+            earliest = earliest.min(h);
+            h < 1.0
+        };
+        active.retain(|&k| keep(horizon[k]));
+        active_pairs.retain(|&p| keep(pair_horizon[p]));
+        earliest
     }
 }
 
@@ -77,26 +93,30 @@ fn time(gap: f64, margin: f64, rate: f64) -> f64 {
 }
 
 impl SphereCertifier {
-    /// Buffers sized for this model.
-    fn scratch(&self) -> Scratch {
-        let mut ranges = Vec::with_capacity(self.models.len());
+    /// Sizes the buffers for this model and resets them for a new motion.
+    fn reset(&self, scratch: &mut Scratch) {
+        let models = self.models.len();
+        scratch.ranges.clear();
         let mut n = 0;
         for m in &self.models {
-            ranges.push((n, n + m.prims.len()));
+            scratch.ranges.push((n, n + m.prims.len()));
             n += m.prims.len();
         }
-        Scratch {
-            stamp: vec![usize::MAX; self.models.len()],
-            balls: vec![(Vector3::zeros(), 0.0); self.models.len()],
-            z: vec![(0.0, 0.0); self.models.len()],
-            prims: vec![Placed::Ball(Vector3::zeros(), 0.0); n],
-            ranges,
-            horizon: vec![0.0; self.models.len()],
-            pair_horizon: vec![0.0; self.pairs.len()],
-            active: (0..self.models.len()).collect(),
-            active_pairs: (0..self.pairs.len()).collect(),
-            ..Scratch::default()
-        }
+        let refill = |v: &mut Vec<f64>, len: usize| {
+            v.clear();
+            v.resize(len, 0.0);
+        };
+        scratch.stamp.clear();
+        scratch.stamp.resize(models, usize::MAX);
+        scratch.balls.resize(models, (Vector3::zeros(), 0.0));
+        scratch.z.resize(models, (0.0, 0.0));
+        scratch.prims.resize(n, Placed::Ball(Vector3::zeros(), 0.0));
+        refill(&mut scratch.horizon, models);
+        refill(&mut scratch.pair_horizon, self.pairs.len());
+        scratch.active.clear();
+        scratch.active.extend(0..models);
+        scratch.active_pairs.clear();
+        scratch.active_pairs.extend(0..self.pairs.len());
     }
 
     /// Forward kinematics at `q` (group values) of the links the models need (the others'
@@ -150,7 +170,7 @@ impl SphereCertifier {
     /// `margin` of an obstacle, or any value of at least `cap` once that is certain (`-inf`
     /// if it may be within `margin` now): per obstacle, the better of the distance bound over
     /// the link's rate and the vertical gap over its vertical rate.
-    fn obstacle_ttc(&self, scratch: &Scratch, k: usize, motion: &Motion<'_>, margin: f64, cap: f64) -> f64 {
+    fn obstacle_ttc(&self, scratch: &Scratch, k: usize, motion: &Motion, margin: f64, cap: f64) -> f64 {
         let slot = self.models[k].slot;
         let (rate, vrate) = (motion.rates[slot], motion.vertical_rates[slot]);
         let (c, r) = scratch.balls[k];
@@ -178,7 +198,7 @@ impl SphereCertifier {
 
     /// Lower bound on the time before the two placed models of pair `p` come within `margin`
     /// of each other, or any value of at least `cap` once that is certain.
-    fn pair_ttc(&self, scratch: &Scratch, p: usize, motion: &Motion<'_>, margin: f64, cap: f64) -> f64 {
+    fn pair_ttc(&self, scratch: &Scratch, p: usize, motion: &Motion, margin: f64, cap: f64) -> f64 {
         let (i, j) = self.pairs[p];
         let rate = motion.pair_rates[p];
         let ((ca, ra), (cb, rb)) = (scratch.balls[i], scratch.balls[j]);
@@ -203,14 +223,7 @@ impl SphereCertifier {
     /// end of the motion), so the query is bounded by it, a little enlarged against rounding:
     /// obstacles farther away are skipped before any exact query. The bounded distance is at
     /// most the exact one, so its time is still a lower bound.
-    fn refine(
-        &self,
-        scratch: &mut Scratch,
-        motion: &Motion<'_>,
-        margin: f64,
-        t: f64,
-        remaining: f64,
-    ) -> Result<(), Stuck> {
+    fn refine(&self, scratch: &mut Scratch, motion: &Motion, margin: f64, t: f64, remaining: f64) -> Result<(), Stuck> {
         let Some(checker) = &self.exact else { return Err(Stuck) };
         scratch.bounds.clear();
         scratch.bounds.resize(self.robot.links().len(), 0.0);
@@ -246,7 +259,7 @@ impl SphereCertifier {
     fn step(
         &self,
         scratch: &mut Scratch,
-        motion: &Motion<'_>,
+        motion: &Motion,
         margin: f64,
         t: f64,
         until: f64,
@@ -261,7 +274,7 @@ impl SphereCertifier {
             if scratch.horizon[k] > until {
                 continue;
             }
-            if !motion.bound.is_moving(self.models[k].slot) {
+            if !self.bound.is_moving(self.models[k].slot) {
                 scratch.horizon[k] = f64::INFINITY;
                 continue;
             }
@@ -295,24 +308,21 @@ impl SphereCertifier {
         Ok(())
     }
 
-    /// Bound on the relative motion of the two models of each pair for the motion `dq`: only
-    /// the group joints on one model's chain and not the other's move them apart (joints on
-    /// both chains move both rigidly), each by at most `|dq_j| r_ij` (see [`MotionBound`]).
-    fn pair_rates(&self, bound: &MotionBound, dq: &[f64]) -> Vec<f64> {
-        self.pairs
-            .iter()
-            .map(|&(i, j)| {
-                let (a, b) = (self.models[i].slot, self.models[j].slot);
-                dq.iter()
-                    .enumerate()
-                    .map(|(g, d)| {
-                        let (ra, rb) = (bound.radius(a, g), bound.radius(b, g));
-                        let r = if ra > 0.0 && rb > 0.0 { 0.0 } else { ra + rb };
-                        r * d.abs()
-                    })
-                    .sum::<f64>()
-            })
-            .collect()
+    /// The rates of the motion `motion.dq` (see [`Motion`]).
+    fn rates(&self, motion: &mut Motion) {
+        let (bound, dq) = (&self.bound, &motion.dq);
+        motion.rates.clear();
+        motion.rates.extend((0..bound.links().len()).map(|i| bound.bound(i, dq)));
+        motion.vertical_rates.clear();
+        motion
+            .vertical_rates
+            .extend((0..bound.links().len()).map(|i| self.vertical_bound(i, dq).unwrap_or(f64::INFINITY)));
+        motion.pair_rates.clear();
+        motion.pair_rates.extend(
+            self.pair_weights
+                .chunks_exact(dq.len().max(1))
+                .map(|w| w.iter().zip(dq).map(|(r, d)| r * d.abs()).sum::<f64>()),
+        );
     }
 }
 
@@ -324,34 +334,58 @@ impl SegmentCertifier for SphereCertifier {
         if *bound != self.bound || bound.dim() != n || !within(a) || !within(b) || margin.is_nan() || margin <= 0.0 {
             return unknown;
         }
-        let dq: Vec<f64> = a.iter().zip(b).map(|(x, y)| y - x).collect();
-        let motion = Motion {
-            bound,
-            rates: (0..bound.links().len()).map(|i| bound.bound(i, &dq)).collect(),
-            vertical_rates: (0..bound.links().len())
-                .map(|i| self.vertical_bound(i, &dq).unwrap_or(f64::INFINITY))
-                .collect(),
-            pair_rates: self.pair_rates(bound, &dq),
-        };
-        let mut scratch = self.scratch();
-        let mut q = a.to_vec();
+        SCRATCH.with(|cell| match cell.try_borrow_mut() {
+            Ok(mut buffers) => {
+                let (scratch, motion) = &mut *buffers;
+                self.advance(a, b, margin, max_steps, scratch, motion)
+            }
+            // Not reached (a certification does not certify another), but never a panic.
+            Err(_) => self.advance(a, b, margin, max_steps, &mut Scratch::default(), &mut Motion::default()),
+        })
+    }
+}
+
+impl SphereCertifier {
+    /// Conservative advancement along `a → b` (checked, within limits) with `scratch` and
+    /// `motion` as buffers: [`SegmentCertifier::certify`].
+    fn advance(
+        &self,
+        a: &[f64],
+        b: &[f64],
+        margin: f64,
+        max_steps: usize,
+        scratch: &mut Scratch,
+        motion: &mut Motion,
+    ) -> Certificate {
+        self.reset(scratch);
+        motion.dq.clear();
+        motion.dq.extend(a.iter().zip(b).map(|(x, y)| y - x));
+        self.rates(motion);
+        let mut q = std::mem::take(&mut scratch.q);
+        q.clear();
+        q.extend_from_slice(a);
         let (mut t, mut last) = (0.0f64, 0.0f64);
+        let mut certificate = Certificate::Unknown { near: Some(t), exhausted: true };
         for step in 0..max_steps {
-            self.set_state(&q, &mut scratch);
+            self.set_state(&q, scratch);
             // What expires within the last advance from here is evaluated now.
             let until = t + (t - last);
-            if self.step(&mut scratch, &motion, margin, t, until, step).is_err() {
-                return Certificate::Unknown { near: Some(t), exhausted: false };
+            if self.step(scratch, motion, margin, t, until, step).is_err() {
+                certificate = Certificate::Unknown { near: Some(t), exhausted: false };
+                break;
             }
             last = t;
             t = scratch.earliest_horizon();
             if t >= 1.0 {
-                return Certificate::Free;
+                certificate = Certificate::Free;
+                break;
             }
-            for ((x, &a0), &dv) in q.iter_mut().zip(a).zip(&dq) {
+            for ((x, &a0), &dv) in q.iter_mut().zip(a).zip(&motion.dq) {
                 *x = a0 + t * dv;
             }
+            certificate = Certificate::Unknown { near: Some(t), exhausted: true };
         }
-        Certificate::Unknown { near: Some(t), exhausted: true }
+        scratch.q = q;
+        certificate
     }
 }

@@ -128,6 +128,11 @@ pub struct SphereCertifier {
     /// Model index pairs to keep apart (the robot's non-allowed link pairs; carried objects
     /// against every link but their carrier).
     pairs: Vec<(usize, usize)>,
+    /// Per pair, one weight per group value: the pair's relative motion is at most
+    /// `Σⱼ |Δqⱼ| wⱼ` (`pairs.len() × dim`). Only the group joints on one model's chain and not
+    /// the other's move them apart (joints on both chains move both rigidly), each by at most
+    /// `|Δqⱼ| rᵢⱼ` (see [`MotionBound`]).
+    pair_weights: Vec<f64>,
     obstacles: Vec<Placed>,
     /// Bounding ball of each obstacle.
     obstacle_balls: Vec<(Vector3<f64>, f64)>,
@@ -247,8 +252,23 @@ impl SphereCertifier {
                 (j, (!moved).then(|| joint.origin * joint.motion(robot.joint_position(q_full, j))))
             })
             .collect();
+        let pair_weights = pairs
+            .iter()
+            .flat_map(|&(i, j)| {
+                let (a, b) = (models[i].slot, models[j].slot);
+                (0..bound.dim()).map(move |g| {
+                    let (ra, rb) = (bound.radius(a, g), bound.radius(b, g));
+                    if ra > 0.0 && rb > 0.0 {
+                        0.0
+                    } else {
+                        ra + rb
+                    }
+                })
+            })
+            .collect();
         Ok(Self {
             chain,
+            pair_weights,
             limits: group.limits(&robot),
             dofs: group.dofs().to_vec(),
             q_full: q_full.to_vec(),
