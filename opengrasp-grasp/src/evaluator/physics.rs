@@ -80,6 +80,14 @@ pub struct PhysicsCheckOptions {
     /// and 9/79 at 1 kHz contacts. The springs resist squeezing, not the sideways escape of
     /// fingertip grasps (the traced ARMAR-III salt-can grasp loses every contact within 40 ms).
     pub grip_compliance: Option<f64>,
+    /// `Some(θ)`: the fingers close as under a position controller with a physical gain: every
+    /// joint of a closing actuator is a spring ([`super::grip::stiffen_grip`] of
+    /// [`super::grip::closing_grip`]) of stiffness `shareᵢ / θ` (N·m/rad) resting θ past the
+    /// evaluated (touching) configuration, so it presses with its full effort share there, less
+    /// as it closes further and more (up to the share) as the object pushes it back: the
+    /// object, free with `fixture` off, centres itself between fingers whose forces balance.
+    /// Excludes `effort` and `balanced`. Default: `None`.
+    pub spring: Option<f64>,
     /// With `balanced`: at the end of the squeeze the balanced grip is solved again on the
     /// simulator's contacts and joint positions ([`super::grip_sim::after_squeeze`]), so the
     /// torques balance the contacts the simulated fingers actually make. Default: false.
@@ -148,6 +156,7 @@ impl Default for PhysicsCheckOptions {
             balanced: None,
             grip_margin: 0.5,
             grip_compliance: None,
+            spring: None,
             resolve_grip: false,
             max_translation: 0.02,
             max_rotation: 0.35,
@@ -193,6 +202,15 @@ impl PhysicsCheckOptions {
                 name: "effort",
                 reason: "`effort` and `balanced` exclude each other: set one".into(),
             });
+        }
+        if let Some(theta) = self.spring {
+            crate::planners::check_positive("spring", theta)?;
+            if self.effort.is_some() || self.balanced.is_some() {
+                return Err(GraspError::InvalidParameter {
+                    name: "spring",
+                    reason: "excludes `effort` and `balanced` (only one actuator model can drive the fingers)".into(),
+                });
+            }
         }
         if self.resolve_grip && self.balanced.is_none() {
             return Err(GraspError::InvalidParameter {
@@ -340,6 +358,10 @@ pub fn physics_check_with<E: PhysicsEngine>(
         let (mut engine, rid) = squeeze_engine::<E>(hand, object, evaluation, &squeeze)?;
         if let Some(grip) = &grip {
             super::grip::command_grip(&mut engine, rid, hand, grip)?;
+        }
+        if let Some(theta) = options.spring {
+            let closing = super::grip::closing_grip(hand, 1.0, options.physics.coupled_actuators)?;
+            super::grip::stiffen_grip(&mut engine, rid, hand, &closing, theta)?;
         }
         if options.fixture {
             engine.set_object_fixed(oid, true)?;
