@@ -8,7 +8,7 @@
 //! `damping` (s⁻¹), `squeeze` (rad), `effort` (fraction of the effort limits; 0: position
 //! control with `squeeze`), `balanced` (fraction of the joints' effort shares for the balanced
 //! grip torques; 0: off), `grip_margin`, `compliance` (rad: the balanced grip as joint springs,
-//! full effort at this deflection; 0: off), `resolve` (0/1: re-solve the balanced grip on
+//! full effort at this deflection; 0: off), `spring` (rad: the closing joints as springs with their full effort share θ before their rest positions; 0: off), `resolve` (0/1: re-solve the balanced grip on
 //! the simulated contacts after the squeeze), `contact_hz`, `iterations`, `timestep` (s), `fixture`
 //! (0/1), `release` (s: the fixture's wrench ramped to zero over this time; 0: at once), `coupled` (0/1), `per_cell` (grasps per planner and object, default 3), `hand`
 //! (`barrett` or `armar3`; default both). Per object and planner the first 128 candidates
@@ -43,6 +43,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "balanced" => options.balanced = Some(value.parse()?).filter(|&f: &f64| f > 0.0),
             "grip_margin" => options.grip_margin = value.parse()?,
             "resolve" => options.resolve_grip = value != "0",
+            "spring" => options.spring = Some(value.parse()?).filter(|&f: &f64| f > 0.0),
             "compliance" => options.grip_compliance = Some(value.parse()?).filter(|&f: &f64| f > 0.0),
             "contact_hz" => p.contact_frequency = value.parse()?,
             "iterations" => p.solver_iterations = value.parse()?,

@@ -19,12 +19,14 @@ use nalgebra::{Isometry3, Point3, Vector3};
 use opengrasp_core::hand::{FingerSpec, Hand, HandSpec};
 use opengrasp_core::model::{Geometry, Inertial, JointKind, JointSpec, Link, RobotBuilder, Shape, TriangleMesh};
 use opengrasp_core::object::ObjectModel;
-use opengrasp_core::physics::PhysicsOptions;
+use opengrasp_core::physics::{ContactBody, PhysicsEngine, PhysicsOptions, RapierBackend};
+use opengrasp_core::scene::ObjectId;
 use opengrasp_grasp::contact::Contact;
 use opengrasp_grasp::evaluator::{
-    physics_check, static_hold, EvaluationStatus, GraspContact, GraspEvaluation, HoldResult, PhysicsCheckOptions,
-    PhysicsOutcome, StaticHoldOptions, StaticHoldOutcome,
+    closing_grip, physics_check, static_hold, stiffen_grip, EvaluationStatus, GraspContact, GraspEvaluation,
+    HoldResult, PhysicsCheckOptions, PhysicsOutcome, StaticHoldOptions, StaticHoldOutcome,
 };
+use opengrasp_grasp::tactile::sources::{squeeze_engine, TactileSeriesOptions};
 use opengrasp_grasp::GraspError;
 
 /// Pad force (N): the prismatic joints' effort limit.
@@ -252,6 +254,106 @@ fn physics_check_rejects_bad_efforts() {
             GraspError::InvalidParameter { name: "effort", .. }
         ));
     }
+}
+
+/// The revolute pinch with spring closing ([`PhysicsCheckOptions::spring`], θ = 0.5 rad) on
+/// stiff contacts, the box free while the fingers close.
+fn spring_options(directions: Vec<Vector3<f64>>) -> PhysicsCheckOptions {
+    let defaults = PhysicsCheckOptions::default();
+    PhysicsCheckOptions {
+        directions,
+        spring: Some(0.5),
+        fixture: false,
+        physics: PhysicsOptions { contact_frequency: 1000.0, ..defaults.physics.clone() },
+        ..defaults
+    }
+}
+
+#[test]
+fn spring_closing_presses_each_finger_with_its_effort_limit() {
+    // At the touching configuration each spring presses with its full effort share τ, so a
+    // finger pushes with τ / L = 10 N, no more: the closing neither overshoots the actuator
+    // nor pushes the free box out of place.
+    let hand = revolute_gripper();
+    let mass = 1.0;
+    let object = wedge(0.0, mass, 0.5);
+    let options = spring_options(Vec::new());
+    let squeeze = TactileSeriesOptions {
+        squeeze: options.squeeze,
+        gravity: Vector3::zeros(),
+        physics: options.physics.clone(),
+        ..TactileSeriesOptions::default()
+    };
+    let (mut engine, robot) = squeeze_engine::<RapierBackend>(&hand, &object, &pinch(&hand), &squeeze).unwrap();
+    let grip = closing_grip(&hand, 1.0, true).unwrap();
+    assert_eq!(grip.joints.len(), 2);
+    stiffen_grip(&mut engine, robot, &hand, &grip, 0.5).unwrap();
+    engine.step_n(48, options.physics.timestep).unwrap(); // 0.2 s
+    let finger_force = |name: &str| -> f64 {
+        let link = hand.robot().link_id(name).unwrap();
+        engine
+            .contacts()
+            .iter()
+            .filter(|c| matches!((c.body1, c.body2), (ContactBody::Link { link: l, .. }, _) | (_, ContactBody::Link { link: l, .. }) if l == link))
+            .map(|c| c.normal_force)
+            .sum()
+    };
+    let expected = FINGER_TORQUE / LEVER;
+    for name in ["left", "right"] {
+        let f = finger_force(name);
+        println!("spring closing: {name} finger presses {f:.4} N (τ / L = {expected} N)");
+        // Measured 9.91 and 9.90 N: the spring loses the fraction δ / θ of its torque, δ ≈ 5
+        // mrad the joint turned past the touch as the ball sank into the contact.
+        assert!(f <= expected * (1.0 + 1e-3) && f >= 0.98 * expected, "{name}: {f} N");
+    }
+    let moved = engine.object_pose(ObjectId(0)).unwrap().translation.vector.norm();
+    assert!(moved < 1e-4, "the closing moved the free box {moved} m");
+}
+
+#[test]
+fn spring_closing_pinch_holds_iff_two_mu_tau_over_lever_exceeds_mg() {
+    // The stall-torque threshold μ* = m g / (2 τ / L) = 0.49 for 1 kg, as with `effort`.
+    let hand = revolute_gripper();
+    let mass = 1.0;
+    let threshold = mass * 9.81 / (2.0 * FINGER_TORQUE / LEVER);
+    let along_axes = spring_options(vec![Vector3::x(), -Vector3::x()]);
+    let check = |mu: f64| physics_check(&hand, &wedge(0.0, mass, mu), &pinch(&hand), &along_axes).unwrap();
+    let slips = check(0.95 * threshold);
+    let holds = check(1.05 * threshold);
+    println!("spring pinch: μ* = {threshold:.3}; below {slips:?}; above {holds:?}");
+    // The springs press 0.99 τ / L (their joints sink ≈ 5 mrad of θ = 0.5 rad into the
+    // contacts), so 5 % below it slides ½ (1 − 0.95 · 0.99) g (0.5 s)² = 7.0 cm (measured
+    // 7.29 cm in both directions); 5 % above it stays (measured 0.5 µm).
+    let sliding = 0.5 * (1.0 - 0.95 * 0.99) * 9.81 * 0.5f64.powi(2);
+    assert!(slips.results.iter().all(|&r| r != HoldResult::Held), "{slips:?}");
+    assert!(slips.translations.iter().all(|&t| (t - sliding).abs() < 0.1 * sliding), "{slips:?}");
+    assert_eq!(holds.results, vec![HoldResult::Held; 2], "{holds:?}");
+    assert!(holds.translations.iter().all(|&t| t < 1e-4), "{holds:?}");
+    // Free while closing, the box stays where the fingers met it.
+    assert!(slips.grip_translation < 1e-4 && holds.grip_translation < 1e-4, "{slips:?} {holds:?}");
+    assert_eq!(check(1.05 * threshold), holds);
+}
+
+#[test]
+fn physics_check_rejects_bad_springs() {
+    let hand = revolute_gripper();
+    let object = wedge(0.0, 0.1, 0.5);
+    let bad = [
+        PhysicsCheckOptions { spring: Some(0.0), ..Default::default() },
+        PhysicsCheckOptions { spring: Some(f64::NAN), ..Default::default() },
+        PhysicsCheckOptions { spring: Some(0.5), effort: Some(1.0), ..Default::default() },
+        PhysicsCheckOptions { spring: Some(0.5), balanced: Some(1.0), ..Default::default() },
+    ];
+    for options in bad {
+        assert!(matches!(
+            physics_check(&hand, &object, &pinch(&hand), &options).unwrap_err(),
+            GraspError::InvalidParameter { name: "spring", .. }
+        ));
+    }
+    assert!(matches!(
+        closing_grip(&hand, -1.0, true).unwrap_err(),
+        GraspError::InvalidParameter { name: "fraction", .. }
+    ));
 }
 
 // ---------------------------------------------------------------------------------------------

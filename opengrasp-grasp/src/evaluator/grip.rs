@@ -181,6 +181,32 @@ pub fn grip_torques(
     Ok(GripTorques { contact_forces, joints, min_normal: if min_normal.is_finite() { min_normal } else { 0.0 } })
 }
 
+/// The grip of a hand that simply closes: every joint driven by a closing actuator (non-zero
+/// closing velocity) presses in its closing direction with `fraction` of its effort share (with
+/// `coupled`, `limit |m_i| / Σ m_k²` as in [`grip_torques`]), whatever the contacts. With
+/// [`stiffen_grip`] it becomes a position controller with a physical gain: each joint presses
+/// with its full share where it stands and less as it closes further (see
+/// [`super::PhysicsCheckOptions::spring`]). The contact forces are left empty.
+///
+/// # Errors
+/// [`GraspError::InvalidParameter`] for a `fraction` that is not finite and positive.
+pub fn closing_grip(hand: &Hand, fraction: f64, coupled: bool) -> Result<GripTorques> {
+    crate::planners::check_positive("fraction", fraction)?;
+    let robot = hand.robot();
+    let closing = hand.closing_velocity();
+    let joints = (0..robot.joints().len())
+        .filter_map(|i| joint_share(robot, JointId(i), coupled).map(|(d, m, s)| (i, d, m, s)))
+        .filter(|&(_, d, _, _)| closing.get(d).is_some_and(|&v| v != 0.0))
+        .map(|(joint, dof, m, share)| JointTorque {
+            joint,
+            dof,
+            torque: fraction * share * (m * closing[dof]).signum(),
+            limit: fraction * share,
+        })
+        .collect();
+    Ok(GripTorques { contact_forces: Vec::new(), joints, min_normal: 0.0 })
+}
+
 /// Commands `grip` as stall torques on the hand `robot` of `engine`: the closing joints'
 /// motors (position targets beyond contact) are capped at `|τᵢ|`, so each presses with its
 /// balanced torque while stalled.

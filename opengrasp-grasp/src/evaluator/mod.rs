@@ -46,7 +46,7 @@ use crate::quality::hull::{ConvexHull, HullOptions};
 use crate::quality::{GraspQuality, QualityOptions, QualityReport, RobustEpsilon};
 use opengrasp_core::object::ObjectModel;
 
-pub use grip::{command_grip, grip_torques, stiffen_grip, GripTorques, JointTorque};
+pub use grip::{closing_grip, command_grip, grip_torques, stiffen_grip, GripTorques, JointTorque};
 pub use grip_sim::{after_squeeze, simulated_evaluation};
 pub use hand_data::hand_info;
 use hand_data::{hand_data, hand_radius, HandData};
