@@ -5,10 +5,11 @@ use std::ops::ControlFlow;
 
 use parry3d_f64::query;
 
-use super::narrow::{aabb_distance, distance, distance_below, distance_below_hinted, Placed};
+use super::narrow::{aabb_distance, distance, distance_below_hinted, Placed};
 use super::{with_scratch, CollisionWorld, Item, Nearest, Obstacle, Owner, Scratch};
 use crate::collision::{Collider, DistanceReport};
 use crate::error::{CoreError, Result};
+use crate::model::LinkId;
 use crate::scene::{ObjectId, RobotId};
 
 impl CollisionWorld {
@@ -36,8 +37,8 @@ impl CollisionWorld {
         self.item_min_distance_hinted(rid, item, bound, None)
     }
 
-    /// [`item_min_distance`](Self::item_min_distance) with the triangle-mesh searches against
-    /// movable obstacles warm-started from the triangle `hint` (updated to the nearest found).
+    /// [`item_min_distance`](Self::item_min_distance) with the triangle-mesh searches
+    /// warm-started from the triangle `hint` (updated to the nearest found; the same result).
     fn item_min_distance_hinted(
         &self,
         rid: usize,
@@ -48,15 +49,26 @@ impl CollisionWorld {
         let placed = self.item_placed(rid, item);
         let mut best: Option<Nearest<'_>> = None;
         let mut bound = bound;
-        if let Some((leaf, d)) = self.env_bvh.find_best(
+        // The leaf query of the static bodies' search is a `Fn`: the hint goes through a cell.
+        let cell = hint.as_deref().map(|&h| std::cell::Cell::new(h));
+        let found = self.env_bvh.find_best(
             bound,
             |node, _| aabb_distance(&node.aabb(), &item.aabb),
             |leaf, best| {
                 let e = &self.env[leaf as usize];
                 let other = Placed { pose: &e.pose, shape: &*e.part.shape, hull: e.part.hull.as_deref() };
-                distance_below(placed, other, best)
+                let mut h = cell.as_ref().map(std::cell::Cell::get);
+                let d = distance_below_hinted(placed, other, best, h.as_mut());
+                if let (Some(c), Some(h)) = (&cell, h) {
+                    c.set(h);
+                }
+                d
             },
-        ) {
+        );
+        if let (Some(h), Some(c)) = (hint.as_deref_mut(), cell) {
+            *h = c.get();
+        }
+        if let Some((leaf, d)) = found {
             bound = d;
             let e = &self.env[leaf as usize];
             best = Some(Nearest { distance: d, id: Collider::Body(e.body), pose: e.pose, shape: &*e.part.shape });
@@ -244,10 +256,10 @@ impl CollisionWorld {
     }
 
     /// [`selected_link_distances_into`](Self::selected_link_distances_into) with the searches
-    /// against triangle-mesh objects (and other robots' mesh links) warm-started from each
-    /// link's nearest triangle of its previous query, kept in `hints` (see
-    /// [`NearestTriangles`]). The same distances, from far fewer triangle queries when the
-    /// robot moves little between queries (the closing steps of a grasp).
+    /// against triangle meshes warm-started from each link's nearest triangle of its previous
+    /// query, kept in `hints` (see [`NearestTriangles`]): the same distances bit for bit, from
+    /// fewer box and triangle tests when the robot moves little between queries (the closing
+    /// steps of a grasp).
     ///
     /// # Errors
     /// As [`in_collision`](Self::in_collision).
@@ -367,5 +379,11 @@ impl NearestTriangles {
     /// Forgets every warm start (the next queries search as without hints).
     pub fn clear(&mut self) {
         self.per_link.clear();
+    }
+
+    /// The triangle nearest `link` at its last hinted query (an index into the mesh it was
+    /// measured against), `None` before any.
+    pub fn triangle(&self, link: LinkId) -> Option<u32> {
+        self.per_link.get(link.0).copied().filter(|&t| t != u32::MAX)
     }
 }

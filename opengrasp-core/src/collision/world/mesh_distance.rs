@@ -3,7 +3,7 @@
 //!
 //! parry's composite distance (`distance_composite_shape_shape`) walks the mesh's BVH nearest
 //! box first and runs GJK on every triangle whose box is nearer than the best distance so far.
-//! [`mesh_distance_below`] walks the same BVH with the same box costs and runs the same GJK
+//! [`mesh_distance_hinted`] walks the same BVH with the same box costs and runs the same GJK
 //! query per triangle, but first bounds the triangle's distance from below by the distance of
 //! its bounding box to the shape's, both in the shape's frame (parry's boxes are in the mesh
 //! frame, where a rotated link's box is loose), and by the distance of the shape's box to the
@@ -314,6 +314,7 @@ mod tests {
         fn equals_parry_bit_for_bit(
             x in -0.05..0.15f64, y in -0.05..0.1f64, z in -0.05..0.12f64,
             rx in -3.0..3.0f64, ry in -3.0..3.0f64, hx in 0.002..0.03f64, bound_scale in 0.5..2.0f64,
+            hint_pick in 0u32..1000,
         ) {
             let mesh = notched_box();
             let pose = Isometry3::new(Vector3::new(x, y, z), Vector3::new(rx, ry, 0.3));
@@ -330,6 +331,15 @@ mod tests {
                 let reference = query::distance(&pose, shape, &mesh_pose, &mesh).unwrap();
                 let all = mesh_distance_below(&pose, shape, &mesh_pose, &mesh, f64::INFINITY).unwrap();
                 prop_assert_eq!(all.map(f64::to_bits), Some(reference.to_bits()));
+                // Warm starts from any triangle (or an out-of-range index) give the same bits,
+                // and leave the hint at a triangle at that distance.
+                for start in [0, 7, hint_pick % 28, u32::MAX] {
+                    let mut hint = start;
+                    let warm = mesh_distance_hinted(&pose, shape, &mesh_pose, &mesh, f64::INFINITY, Some(&mut hint));
+                    prop_assert_eq!(warm.unwrap().map(f64::to_bits), Some(reference.to_bits()));
+                    let nearest = query::distance(&mesh_pose, &mesh.triangle(hint), &pose, shape).unwrap();
+                    prop_assert!((nearest - reference).abs() <= 1e-12, "{} vs {}", nearest, reference);
+                }
                 let bound = reference * bound_scale;
                 let below = mesh_distance_below(&pose, shape, &mesh_pose, &mesh, bound).unwrap();
                 prop_assert_eq!(below.map(f64::to_bits), (reference < bound).then_some(reference.to_bits()));
