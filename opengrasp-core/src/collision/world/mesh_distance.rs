@@ -102,18 +102,6 @@ fn convex_and_mesh<'a>(s1: &dyn ParryShape, s2: &'a dyn ParryShape) -> Option<&'
     (s1.as_support_map().is_some() && s1.as_composite_shape().is_none()).then(|| s2.as_trimesh()).flatten()
 }
 
-/// [`mesh_distance_hinted`] without a hint.
-#[cfg(test)]
-pub(super) fn mesh_distance_below(
-    p1: &Isometry3<f64>,
-    s1: &dyn ParryShape,
-    p2: &Isometry3<f64>,
-    s2: &dyn ParryShape,
-    bound: f64,
-) -> Option<Option<f64>> {
-    mesh_distance_hinted(p1, s1, p2, s2, bound, None)
-}
-
 /// The distance parry's `query::distance(p1, s1, p2, s2)` returns for a convex shape and a
 /// triangle mesh (either order) when it is below `bound`, `None` when it is not; `None` from
 /// the outer option means the pair is not convex shape and mesh (see the module docs). With
@@ -329,7 +317,7 @@ mod tests {
                     prop_assert!(bounds.box_gap(&tri) <= d + 1e-12 && bounds.plane_gap(&tri) <= d + 1e-12);
                 }
                 let reference = query::distance(&pose, shape, &mesh_pose, &mesh).unwrap();
-                let all = mesh_distance_below(&pose, shape, &mesh_pose, &mesh, f64::INFINITY).unwrap();
+                let all = mesh_distance_hinted(&pose, shape, &mesh_pose, &mesh, f64::INFINITY, None).unwrap();
                 prop_assert_eq!(all.map(f64::to_bits), Some(reference.to_bits()));
                 // Warm starts from any triangle (or an out-of-range index) give the same bits,
                 // and leave the hint at a triangle at that distance.
@@ -341,7 +329,7 @@ mod tests {
                     prop_assert!((nearest - reference).abs() <= 1e-12, "{} vs {}", nearest, reference);
                 }
                 let bound = reference * bound_scale;
-                let below = mesh_distance_below(&pose, shape, &mesh_pose, &mesh, bound).unwrap();
+                let below = mesh_distance_hinted(&pose, shape, &mesh_pose, &mesh, bound, None).unwrap();
                 prop_assert_eq!(below.map(f64::to_bits), (reference < bound).then_some(reference.to_bits()));
                 // Contacts within a prediction distance around the distance: the same contact
                 // (points, normals, depth; Debug prints every bit of an f64).

@@ -446,12 +446,12 @@ proptest::proptest! {
         };
         let plain = parry3d_f64::query::distance(p1, s1, p2, s2).unwrap();
         let bound = plain * fraction + if fraction > 1.0 { 1e-3 } else { 0.0 };
-        let bounded = super::mesh_distance::mesh_distance_below(p1, s1, p2, s2, bound);
+        let bounded = super::mesh_distance::mesh_distance_hinted(p1, s1, p2, s2, bound, None);
         let expected = (plain < bound).then_some(plain);
         proptest::prop_assert_eq!(bounded.map(|d| d.map(f64::to_bits)), Some(expected.map(f64::to_bits)), "plain {} bound {}", plain, bound);
         // An infinite bound gives parry's distance; pairs without a mesh are left to the plain query.
-        let unbounded = super::mesh_distance::mesh_distance_below(p1, s1, p2, s2, f64::INFINITY);
+        let unbounded = super::mesh_distance::mesh_distance_hinted(p1, s1, p2, s2, f64::INFINITY, None);
         proptest::prop_assert_eq!(unbounded.map(|d| d.map(f64::to_bits)), Some(Some(plain.to_bits())));
-        proptest::prop_assert_eq!(super::mesh_distance::mesh_distance_below(p1, &*other.0, p2, &*other.0, bound), None);
+        proptest::prop_assert_eq!(super::mesh_distance::mesh_distance_hinted(p1, &*other.0, p2, &*other.0, bound, None), None);
     }
 }
