@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 use criterion::{criterion_main, Criterion};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion};
-use opengrasp_core::collision::CollisionWorld;
+use opengrasp_core::collision::{CollisionWorld, NearestTriangles};
 use opengrasp_core::kinematics::{forward_kinematics, forward_kinematics_into, solve_ik, IkOptions};
 use opengrasp_core::model::{samples, Geometry, Robot, Shape};
 use opengrasp_core::scene::{RobotId, Scene, StaticBody};
@@ -111,6 +111,31 @@ fn bench_collision(c: &mut Criterion) {
             black_box(world.distance(arm, black_box(&qs[k])).expect("distance"))
         })
     });
+    // Every link's distance to the torus along a path of small steps (as a grasp's closing
+    // queries them), plain and warm-started from each link's nearest triangle of the step
+    // before (the same distances).
+    let path: Vec<Vec<f64>> =
+        (0..256).map(|k| qs[0].iter().zip(&qs[1]).map(|(a, b)| a + (b - a) * f64::from(k) / 255.0).collect()).collect();
+    let selected = vec![true; 16];
+    for (row, hinted) in [("link_distances_7dof_torus_path", false), ("link_distances_hinted_7dof_torus_path", true)] {
+        let (mut hints, mut out, mut k) = (NearestTriangles::new(), Vec::new(), 0);
+        c.bench_function(row, |b| {
+            b.iter(|| {
+                k = (k + 1) % path.len();
+                if k == 0 {
+                    hints.clear();
+                }
+                let q = black_box(&path[k]);
+                if hinted {
+                    world.selected_link_distances_hinted_into(arm, q, &selected, &mut out, &mut hints)
+                } else {
+                    world.selected_link_distances_into(arm, q, &selected, &mut out)
+                }
+                .expect("distances");
+                black_box(&out);
+            })
+        });
+    }
 }
 
 /// The sample arm beside a torus mesh (radii 0.3 and 0.08, 1,024 triangles) at 0.5 m.

@@ -18,7 +18,7 @@
 //! need a query); `tests::lower_bounds_leave_every_closing_bit_identical` checks this
 //! against the loop that queries every link.
 
-use opengrasp_core::collision::CollisionWorld;
+use opengrasp_core::collision::{CollisionWorld, NearestTriangles};
 
 use super::{GraspEvaluator, HULL_SWITCH_DISTANCE};
 use crate::error::Result;
@@ -42,6 +42,9 @@ struct Buffers {
     known: Vec<bool>,
     mask: Vec<bool>,
     query: Vec<f64>,
+    /// Each link's nearest triangle of the object mesh at its last exact query (the hull
+    /// world's queries leave it alone: the hull is no triangle mesh).
+    hints: NearestTriangles,
 }
 
 impl GraspEvaluator {
@@ -100,7 +103,7 @@ impl GraspEvaluator {
             if !any {
                 return Ok(());
             }
-            world.selected_link_distances_into(self.robot, q, &b.mask, &mut b.query)?;
+            world.selected_link_distances_hinted_into(self.robot, q, &b.mask, &mut b.query, &mut b.hints)?;
             for (((d, known), &m), &x) in dist.iter_mut().zip(b.known.iter_mut()).zip(&b.mask).zip(&b.query) {
                 if m && !*known {
                     *d = x;
@@ -127,6 +130,7 @@ impl GraspEvaluator {
             known: vec![false; n],
             mask: vec![false; n],
             query: Vec::new(),
+            hints: NearestTriangles::new(),
         };
         // A link that may stop its finger, or (non-convex objects) need its exact distance, is
         // always given its hull distance.

@@ -5,10 +5,11 @@ use std::ops::ControlFlow;
 
 use parry3d_f64::query;
 
-use super::narrow::{aabb_distance, distance, distance_below, Placed};
+use super::narrow::{aabb_distance, distance, distance_below_hinted, Placed};
 use super::{with_scratch, CollisionWorld, Item, Nearest, Obstacle, Owner, Scratch};
 use crate::collision::{Collider, DistanceReport};
 use crate::error::{CoreError, Result};
+use crate::model::LinkId;
 use crate::scene::{ObjectId, RobotId};
 
 impl CollisionWorld {
@@ -33,18 +34,41 @@ impl CollisionWorld {
     /// Nearest obstacle of one item if nearer than `bound` (branch and bound over the
     /// hierarchy, nearest AABB first); distances are ≥ 0 (0 when touching or overlapping).
     pub(super) fn item_min_distance(&self, rid: usize, item: &Item, bound: f64) -> Option<Nearest<'_>> {
+        self.item_min_distance_hinted(rid, item, bound, None)
+    }
+
+    /// [`item_min_distance`](Self::item_min_distance) with the triangle-mesh searches
+    /// warm-started from the triangle `hint` (updated to the nearest found; the same result).
+    fn item_min_distance_hinted(
+        &self,
+        rid: usize,
+        item: &Item,
+        bound: f64,
+        mut hint: Option<&mut u32>,
+    ) -> Option<Nearest<'_>> {
         let placed = self.item_placed(rid, item);
         let mut best: Option<Nearest<'_>> = None;
         let mut bound = bound;
-        if let Some((leaf, d)) = self.env_bvh.find_best(
+        // The leaf query of the static bodies' search is a `Fn`: the hint goes through a cell.
+        let cell = hint.as_deref().map(|&h| std::cell::Cell::new(h));
+        let found = self.env_bvh.find_best(
             bound,
             |node, _| aabb_distance(&node.aabb(), &item.aabb),
             |leaf, best| {
                 let e = &self.env[leaf as usize];
                 let other = Placed { pose: &e.pose, shape: &*e.part.shape, hull: e.part.hull.as_deref() };
-                distance_below(placed, other, best)
+                let mut h = cell.as_ref().map(std::cell::Cell::get);
+                let d = distance_below_hinted(placed, other, best, h.as_mut());
+                if let (Some(c), Some(h)) = (&cell, h) {
+                    c.set(h);
+                }
+                d
             },
-        ) {
+        );
+        if let (Some(h), Some(c)) = (hint.as_deref_mut(), cell) {
+            *h = c.get();
+        }
+        if let Some((leaf, d)) = found {
             bound = d;
             let e = &self.env[leaf as usize];
             best = Some(Nearest { distance: d, id: Collider::Body(e.body), pose: e.pose, shape: &*e.part.shape });
@@ -64,7 +88,7 @@ impl CollisionWorld {
             if lb >= bound {
                 break;
             }
-            if let Some(d) = distance_below(placed, o.placed(), bound) {
+            if let Some(d) = distance_below_hinted(placed, o.placed(), bound, hint.as_deref_mut()) {
                 bound = d;
                 best = Some(Nearest { distance: d, id: o.id, pose: *o.pose, shape: o.shape });
             }
@@ -231,6 +255,45 @@ impl CollisionWorld {
         self.link_distances_where(robot, q, out, |l| selected.get(l).copied().unwrap_or(false))
     }
 
+    /// [`selected_link_distances_into`](Self::selected_link_distances_into) with the searches
+    /// against triangle meshes warm-started from each link's nearest triangle of its previous
+    /// query, kept in `hints` (see [`NearestTriangles`]): the same distances bit for bit, from
+    /// fewer box and triangle tests when the robot moves little between queries (the closing
+    /// steps of a grasp).
+    ///
+    /// # Errors
+    /// As [`in_collision`](Self::in_collision).
+    pub fn selected_link_distances_hinted_into(
+        &self,
+        robot: RobotId,
+        q: &[f64],
+        selected: &[bool],
+        out: &mut Vec<f64>,
+        hints: &mut NearestTriangles,
+    ) -> Result<()> {
+        self.validate(robot, q)?;
+        let wanted = |l: usize| selected.get(l).copied().unwrap_or(false);
+        let n = self.robots[robot.0].n_links();
+        hints.per_link.resize(n, u32::MAX);
+        out.clear();
+        out.extend((0..n).map(|l| if wanted(l) { f64::INFINITY } else { 0.0 }));
+        with_scratch(|s| {
+            self.place_links(robot.0, q, |l: usize| out[l] > 0.0, s);
+            for item in &s.items {
+                let l = item.link.0;
+                if let Some(n) = self.item_min_distance_hinted(robot.0, item, out[l], Some(&mut hints.per_link[l])) {
+                    out[l] = out[l].min(n.distance);
+                }
+            }
+        });
+        for (l, d) in out.iter_mut().enumerate() {
+            if !wanted(l) {
+                *d = f64::INFINITY;
+            }
+        }
+        Ok(())
+    }
+
     /// `min(dₗ, bounds[l])` for every link `l`, with `dₗ` its distance of
     /// [`link_distances_into`](Self::link_distances_into) (bit for bit the minimum of that
     /// query and `bounds`). For callers that only need to know whether a link is nearer than
@@ -295,5 +358,32 @@ impl CollisionWorld {
                 }
             }
         });
+    }
+}
+
+/// Per-link warm starts of [`CollisionWorld::selected_link_distances_hinted_into`]: the index
+/// of the triangle nearest each link at its last query (of whichever mesh it was measured
+/// against; any triangle is a valid start, a far one only prunes less). Start empty; reuse
+/// it for queries of nearby configurations of the same robot.
+#[derive(Clone, Debug, Default)]
+pub struct NearestTriangles {
+    per_link: Vec<u32>,
+}
+
+impl NearestTriangles {
+    /// No warm starts yet.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Forgets every warm start (the next queries search as without hints).
+    pub fn clear(&mut self) {
+        self.per_link.clear();
+    }
+
+    /// The triangle nearest `link` at its last hinted query (an index into the mesh it was
+    /// measured against), `None` before any.
+    pub fn triangle(&self, link: LinkId) -> Option<u32> {
+        self.per_link.get(link.0).copied().filter(|&t| t != u32::MAX)
     }
 }

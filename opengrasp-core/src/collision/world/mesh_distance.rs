@@ -3,7 +3,7 @@
 //!
 //! parry's composite distance (`distance_composite_shape_shape`) walks the mesh's BVH nearest
 //! box first and runs GJK on every triangle whose box is nearer than the best distance so far.
-//! [`mesh_distance_below`] walks the same BVH with the same box costs and runs the same GJK
+//! [`mesh_distance_hinted`] walks the same BVH with the same box costs and runs the same GJK
 //! query per triangle, but first bounds the triangle's distance from below by the distance of
 //! its bounding box to the shape's, both in the shape's frame (parry's boxes are in the mesh
 //! frame, where a rotated link's box is loose), and by the distance of the shape's box to the
@@ -27,6 +27,11 @@ use parry3d_f64::shape::{Shape as ParryShape, TriMesh, Triangle};
 /// A triangle is skipped only if its lower bound exceeds the threshold by more than this (m):
 /// far above the rounding of the bound and of GJK's distance (≈ 1e-16 m at grasp scales).
 pub(super) const SKIP_MARGIN: f64 = 1e-10;
+
+/// A warm-started mesh search ([`mesh_distance_hinted`]) starts from the hinted triangle's
+/// distance plus this (m): far above the rounding of the distances and box costs, so every
+/// triangle tying with the hinted one to rounding stays in the search.
+const WARM_MARGIN: f64 = 1e-10;
 
 /// Lower bounds of the distance between the triangles of a mesh and a shape inside the box
 /// `local` of the shape's own frame, the mesh placed by `to_shape` in that frame (see
@@ -98,23 +103,28 @@ fn convex_and_mesh<'a>(s1: &dyn ParryShape, s2: &'a dyn ParryShape) -> Option<&'
 }
 
 /// The distance parry's `query::distance(p1, s1, p2, s2)` returns for a convex shape and a
-/// triangle mesh (either order), when it is below `bound`; `None` when it is not (see the
-/// module docs). `None` from the outer option means the pair is not convex shape and mesh.
-pub(super) fn mesh_distance_below(
+/// triangle mesh (either order) when it is below `bound`, `None` when it is not; `None` from
+/// the outer option means the pair is not convex shape and mesh (see the module docs). With
+/// a `hint` (a triangle index; out of range means none) the search starts from that
+/// triangle's distance and skips every box farther than it, with the same result bit for
+/// bit (see `walk`); `hint` is set to the nearest triangle found, for the next query of a
+/// nearby pose.
+pub(super) fn mesh_distance_hinted(
     p1: &Isometry3<f64>,
     s1: &dyn ParryShape,
     p2: &Isometry3<f64>,
     s2: &dyn ParryShape,
     bound: f64,
+    hint: Option<&mut u32>,
 ) -> Option<Option<f64>> {
     // parry: pos12 = p1⁻¹ p2; the composite query with the mesh first, at pos12⁻¹ when the
     // mesh is the second shape.
     let pos12 = p1.inv_mul(p2);
     if let Some(mesh) = convex_and_mesh(s1, s2) {
-        return Some(walk(mesh, s1, &pos12.inverse(), bound));
+        return Some(walk(mesh, s1, &pos12.inverse(), bound, hint));
     }
     let mesh = convex_and_mesh(s2, s1)?;
-    Some(walk(mesh, s2, &pos12, bound))
+    Some(walk(mesh, s2, &pos12, bound, hint))
 }
 
 /// The contact parry's `query::contact(p1, s1, p2, s2, prediction)` returns for a convex `s1`
@@ -154,17 +164,40 @@ pub(super) fn mesh_contact(
 }
 
 /// Nearest-box-first search of `mesh`'s BVH as in parry's `distance_to_shape`, from parry's
-/// unbounded best. (Starting the search from a finite `bound` instead changed one grasp
-/// cell's mean ε by 0.6 % on the default suite: a node box's cost is not always below its
-/// triangles' GJK distances, so which nodes get pruned depends on the search order; the
-/// bound is used for the per-triangle skip only, which keeps parry's result bit for bit.)
-fn walk(mesh: &TriMesh, shape: &dyn ParryShape, pose12: &Isometry3<f64>, bound: f64) -> Option<f64> {
+/// unbounded best, or with a valid `hint`, from the hinted triangle's distance plus
+/// [`WARM_MARGIN`] (`hint` then becomes the nearest triangle found).
+///
+/// The warm start gives parry's result bit for bit. The search order (children by box cost)
+/// does not depend on the best; only the pruning does. With `B` = the hint's distance plus
+/// the margin, a box whose cost is at least `B` holds only triangles at least `B` away (a
+/// box's cost is below its triangles' distances), so pruning it loses nothing below `B`; a
+/// box nearer than `B` passes both searches' tests while neither has found a triangle below
+/// `B`, and once one has, both have (the same triangle) and their bests agree from then on.
+/// Both thus query the same triangles below `B`, among them the nearest (the hinted one is
+/// below `B`), and return the same minimum. The margin keeps this exact when triangles tie
+/// with the hinted one to rounding (a flat pad on a face split in two triangles), where
+/// starting from the hint's distance itself dropped the tie parry's search keeps.
+/// (Starting from the caller's `bound`, not a distance of the mesh, changed one grasp cell's
+/// mean ε by 0.6 % on the default suite: the bound is used for the per-triangle skip only.)
+fn walk(
+    mesh: &TriMesh,
+    shape: &dyn ParryShape,
+    pose12: &Isometry3<f64>,
+    bound: f64,
+    hint: Option<&mut u32>,
+) -> Option<f64> {
     let bounds = TriangleBounds::new(shape.compute_local_aabb(), &pose12.inverse());
     let ls_aabb2 = shape.compute_aabb(pose12);
     let msum_shift = -ls_aabb2.center().coords;
     let msum_margin = ls_aabb2.half_extents();
+    let query = |tri: &Triangle| DefaultQueryDispatcher.distance(pose12, tri, shape).ok();
+    let start = hint
+        .as_deref()
+        .filter(|&&h| (h as usize) < mesh.num_triangles())
+        .and_then(|&h| query(&mesh.triangle(h)))
+        .map_or(f64::MAX, |d| d + WARM_MARGIN);
     let best = mesh.bvh().find_best(
-        f64::MAX,
+        start,
         |node: &BvhNode, _| {
             let msum =
                 Aabb { mins: node.mins() + msum_shift - msum_margin, maxs: node.maxs() + msum_shift + msum_margin };
@@ -176,9 +209,12 @@ fn walk(mesh: &TriMesh, shape: &dyn ParryShape, pose12: &Isometry3<f64>, bound: 
             if threshold < f64::MAX && bounds.exceeds(&tri, threshold) {
                 return None;
             }
-            DefaultQueryDispatcher.distance(pose12, &tri, shape).ok()
+            query(&tri)
         },
     );
+    if let (Some(h), Some((part, _))) = (hint, best) {
+        *h = part;
+    }
     let d = best.map_or(f64::MAX, |(_, d)| d);
     (d < bound).then_some(d)
 }
@@ -266,6 +302,7 @@ mod tests {
         fn equals_parry_bit_for_bit(
             x in -0.05..0.15f64, y in -0.05..0.1f64, z in -0.05..0.12f64,
             rx in -3.0..3.0f64, ry in -3.0..3.0f64, hx in 0.002..0.03f64, bound_scale in 0.5..2.0f64,
+            hint_pick in 0u32..1000,
         ) {
             let mesh = notched_box();
             let pose = Isometry3::new(Vector3::new(x, y, z), Vector3::new(rx, ry, 0.3));
@@ -280,10 +317,19 @@ mod tests {
                     prop_assert!(bounds.box_gap(&tri) <= d + 1e-12 && bounds.plane_gap(&tri) <= d + 1e-12);
                 }
                 let reference = query::distance(&pose, shape, &mesh_pose, &mesh).unwrap();
-                let all = mesh_distance_below(&pose, shape, &mesh_pose, &mesh, f64::INFINITY).unwrap();
+                let all = mesh_distance_hinted(&pose, shape, &mesh_pose, &mesh, f64::INFINITY, None).unwrap();
                 prop_assert_eq!(all.map(f64::to_bits), Some(reference.to_bits()));
+                // Warm starts from any triangle (or an out-of-range index) give the same bits,
+                // and leave the hint at a triangle at that distance.
+                for start in [0, 7, hint_pick % 28, u32::MAX] {
+                    let mut hint = start;
+                    let warm = mesh_distance_hinted(&pose, shape, &mesh_pose, &mesh, f64::INFINITY, Some(&mut hint));
+                    prop_assert_eq!(warm.unwrap().map(f64::to_bits), Some(reference.to_bits()));
+                    let nearest = query::distance(&mesh_pose, &mesh.triangle(hint), &pose, shape).unwrap();
+                    prop_assert!((nearest - reference).abs() <= 1e-12, "{} vs {}", nearest, reference);
+                }
                 let bound = reference * bound_scale;
-                let below = mesh_distance_below(&pose, shape, &mesh_pose, &mesh, bound).unwrap();
+                let below = mesh_distance_hinted(&pose, shape, &mesh_pose, &mesh, bound, None).unwrap();
                 prop_assert_eq!(below.map(f64::to_bits), (reference < bound).then_some(reference.to_bits()));
                 // Contacts within a prediction distance around the distance: the same contact
                 // (points, normals, depth; Debug prints every bit of an f64).

@@ -6,6 +6,8 @@ mod mesh_distance;
 mod narrow;
 mod queries;
 
+pub use distances::NearestTriangles;
+
 use std::cell::RefCell;
 use std::sync::Arc;
 

@@ -53,7 +53,10 @@ pub(super) fn intersects_placed(a: Placed<'_>, b: Placed<'_>) -> bool {
 /// exact query is skipped if it already reaches `bound`. The value returned is always the
 /// exact distance. With an infinite `bound` nothing can be ruled out, so the hulls are not
 /// queried (the first query of a branch-and-bound search, or one link's only part).
-pub(super) fn distance_below(a: Placed<'_>, b: Placed<'_>, bound: f64) -> Option<f64> {
+///
+/// A triangle-mesh pair's search is warm-started from the triangle `hint` when there is one
+/// (the same result; see `mesh_distance::mesh_distance_hinted`).
+pub(super) fn distance_below_hinted(a: Placed<'_>, b: Placed<'_>, bound: f64, hint: Option<&mut u32>) -> Option<f64> {
     if (a.hull.is_some() || b.hull.is_some()) && bound < f64::INFINITY {
         if let Some(lb) = distance(a.pose, a.outer(), b.pose, b.outer()) {
             if lb >= bound {
@@ -61,7 +64,7 @@ pub(super) fn distance_below(a: Placed<'_>, b: Placed<'_>, bound: f64) -> Option
             }
         }
     }
-    if let Some(d) = super::mesh_distance::mesh_distance_below(a.pose, a.shape, b.pose, b.shape, bound) {
+    if let Some(d) = super::mesh_distance::mesh_distance_hinted(a.pose, a.shape, b.pose, b.shape, bound, hint) {
         return d;
     }
     distance(a.pose, a.shape, b.pose, b.shape).filter(|&d| d < bound)

@@ -346,6 +346,53 @@ fn bounded_link_distances_on_known_cases_and_bad_input() {
 /// A non-convex triangle mesh (an open box: a floor and four walls, no lid) as parry's
 /// `TriMesh`.
 fn open_box_trimesh() -> parry3d_f64::shape::SharedShape {
+    let (v, t) = open_box();
+    parry3d_f64::shape::SharedShape::trimesh(v, t).unwrap()
+}
+
+/// Hinted link distances ([`NearestTriangles`]) along a motion of the arm in and around two
+/// open boxes (a static body and a movable object, so both searches take hints) are the
+/// plain query's bit for bit, and leave each measured link's nearest triangle as its hint.
+#[test]
+fn hinted_link_distances_are_the_plain_ones_bit_for_bit() {
+    let mut scene = Scene::new("arm and open boxes");
+    let arm = scene.add_robot("arm", Arc::new(samples::seven_dof_arm().unwrap()), Isometry3::identity()).unwrap();
+    let (v, t) = open_box();
+    let mesh = Arc::new(crate::model::TriangleMesh::new(v, t).unwrap());
+    let shape = || vec![Shape::at_origin(Geometry::Mesh(mesh.clone()))];
+    scene.add_body(StaticBody::new("box", Isometry3::translation(0.5, 0.0, 0.3), shape())).unwrap();
+    scene.add_object(SceneObject::new("box", Isometry3::translation(-0.4, 0.3, 0.5), shape(), 1.0)).unwrap();
+    let world = CollisionWorld::new(&scene).unwrap();
+    let n = world.robots[arm.0].n_links();
+    let selected = vec![true; n];
+    let (mut plain, mut hinted, mut hints) = (Vec::new(), Vec::new(), NearestTriangles::new());
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let mut compared = 0;
+    for _ in 0..4 {
+        let (a, b) = (random_q(&world.robots[arm.0].robot, &mut rng), random_q(&world.robots[arm.0].robot, &mut rng));
+        for step in 0..=40 {
+            let q: Vec<f64> = a.iter().zip(&b).map(|(x, y)| x + (y - x) * f64::from(step) / 40.0).collect();
+            world.selected_link_distances_into(arm, &q, &selected, &mut plain).unwrap();
+            world.selected_link_distances_hinted_into(arm, &q, &selected, &mut hinted, &mut hints).unwrap();
+            assert_eq!(
+                plain.iter().map(|d| d.to_bits()).collect::<Vec<_>>(),
+                hinted.iter().map(|d| d.to_bits()).collect::<Vec<_>>()
+            );
+            compared += plain.iter().filter(|d| d.is_finite()).count();
+        }
+    }
+    // Every link with geometry was measured against the meshes and holds a hint.
+    let with_hint = (0..n).filter(|&l| hints.triangle(crate::model::LinkId(l)).is_some()).count();
+    assert_eq!(with_hint, plain.iter().filter(|d| d.is_finite()).count());
+    assert!(with_hint >= 4 && compared >= 4 * 41 * 4, "{with_hint} links, {compared} distances");
+    hints.clear();
+    assert_eq!(hints.triangle(crate::model::LinkId(0)), None);
+    // A bad configuration is a typed error.
+    assert!(world.selected_link_distances_hinted_into(arm, &[0.0; 3], &selected, &mut hinted, &mut hints).is_err());
+}
+
+/// The open box's corners and triangles (see [`open_box_trimesh`]).
+fn open_box() -> (Vec<nalgebra::Point3<f64>>, Vec<[u32; 3]>) {
     // Corners 0-3 on the floor (z = 0), 4-7 above them (z = 0.2), counter-clockwise.
     let v = (0..8)
         .map(|k: usize| {
@@ -359,7 +406,7 @@ fn open_box_trimesh() -> parry3d_f64::shape::SharedShape {
         let b = (a + 1) % 4;
         t.extend([[a, b, b + 4], [a, b + 4, a + 4]]);
     }
-    parry3d_f64::shape::SharedShape::trimesh(v, t).unwrap()
+    (v, t)
 }
 
 proptest::proptest! {
@@ -399,12 +446,12 @@ proptest::proptest! {
         };
         let plain = parry3d_f64::query::distance(p1, s1, p2, s2).unwrap();
         let bound = plain * fraction + if fraction > 1.0 { 1e-3 } else { 0.0 };
-        let bounded = super::mesh_distance::mesh_distance_below(p1, s1, p2, s2, bound);
+        let bounded = super::mesh_distance::mesh_distance_hinted(p1, s1, p2, s2, bound, None);
         let expected = (plain < bound).then_some(plain);
         proptest::prop_assert_eq!(bounded.map(|d| d.map(f64::to_bits)), Some(expected.map(f64::to_bits)), "plain {} bound {}", plain, bound);
         // An infinite bound gives parry's distance; pairs without a mesh are left to the plain query.
-        let unbounded = super::mesh_distance::mesh_distance_below(p1, s1, p2, s2, f64::INFINITY);
+        let unbounded = super::mesh_distance::mesh_distance_hinted(p1, s1, p2, s2, f64::INFINITY, None);
         proptest::prop_assert_eq!(unbounded.map(|d| d.map(f64::to_bits)), Some(Some(plain.to_bits())));
-        proptest::prop_assert_eq!(super::mesh_distance::mesh_distance_below(p1, &*other.0, p2, &*other.0, bound), None);
+        proptest::prop_assert_eq!(super::mesh_distance::mesh_distance_hinted(p1, &*other.0, p2, &*other.0, bound, None), None);
     }
 }
