@@ -32,6 +32,21 @@ pub fn squared_distance(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum()
 }
 
+/// [`squared_distance`] of `a` and `b` if it is at most `bound`, else a value above `bound`:
+/// the sum stops once it passes `bound` (its terms are not negative, so the rounded partial
+/// sums never decrease and the full sum would pass it too). A point farther than the current
+/// bound is refused by the collectors either way, so answers (ties included) are unchanged.
+fn squared_distance_within(a: &[f64], b: &[f64], bound: f64) -> f64 {
+    let mut sum = 0.0;
+    for (x, y) in a.iter().zip(b) {
+        sum += (x - y) * (x - y);
+        if sum > bound {
+            break;
+        }
+    }
+    sum
+}
+
 /// A set of configurations answering nearest-neighbour queries. Points are numbered in the
 /// order they were added, from 0. Results are ordered by distance, then by index.
 pub trait NearestNeighbors: Send + Sync {
@@ -339,7 +354,7 @@ impl KdTree {
         match &self.nodes[n] {
             KdNode::Leaf(ids) => {
                 for &i in ids {
-                    best.offer(squared_distance(self.points.row(i), q), i);
+                    best.offer(squared_distance_within(self.points.row(i), q, best.bound()), i);
                 }
             }
             &KdNode::Split { axis, value, left, right } => {
@@ -451,6 +466,43 @@ impl KdTree {
                     self.within(far, q, r2, off, found);
                 }
                 off[axis] = old;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{squared_distance, squared_distance_within};
+    use proptest::prelude::*;
+
+    #[test]
+    fn stops_once_past_the_bound() {
+        let (a, b) = ([0.0, 0.0, 0.0], [3.0, 4.0, 12.0]);
+        assert_eq!(squared_distance_within(&a, &b, 169.0), 169.0);
+        assert_eq!(squared_distance_within(&a, &b, f64::INFINITY), 169.0);
+        // 9 + 16 = 25 passes 20: the sum stops before the last term.
+        assert_eq!(squared_distance_within(&a, &b, 20.0), 25.0);
+        assert_eq!(squared_distance_within(&a, &b, 0.0), 9.0);
+    }
+
+    proptest! {
+        /// At or above the full sum the result is the full sum to the bit; below it, a value
+        /// above the bound (never at or below it, where a tie could be taken).
+        #[test]
+        fn within_agrees_with_the_full_sum(
+            pairs in prop::collection::vec((-3.0f64..3.0, -3.0f64..3.0), 1..10),
+            scale in 0.0f64..2.0,
+        ) {
+            let (a, b): (Vec<f64>, Vec<f64>) = pairs.into_iter().unzip();
+            let full = squared_distance(&a, &b);
+            prop_assert_eq!(squared_distance_within(&a, &b, full).to_bits(), full.to_bits());
+            let bound = full * scale;
+            let got = squared_distance_within(&a, &b, bound);
+            if bound >= full {
+                prop_assert_eq!(got.to_bits(), full.to_bits());
+            } else {
+                prop_assert!(got > bound && got <= full);
             }
         }
     }

@@ -43,8 +43,9 @@ struct Tally {
 
 /// `check_motion` certified (default) against uncertified and one by one, on `n` random
 /// motions from valid states of `world` (lengths up to `reach` per joint, steps `steps`; with
-/// `short`, motions are shortened to at most 62 steps, one word of certificate bits).
-fn compare(world: &SphereWorld, seed: u64, n: usize, reach: f64, steps: (f64, f64), short: bool) -> Tally {
+/// `most`, motions are shortened to at most that many steps, e.g. 62: one word of certificate
+/// bits).
+fn compare(world: &SphereWorld, seed: u64, n: usize, reach: f64, steps: (f64, f64), most: Option<f64>) -> Tally {
     let limits = world.group().limits(world.robot());
     let plain = world.clone().with_certified_motions(false);
     let one_by_one = OneByOne(world);
@@ -61,8 +62,8 @@ fn compare(world: &SphereWorld, seed: u64, n: usize, reach: f64, steps: (f64, f6
             a.iter().zip(&limits).map(|(&x, &(lo, hi))| (x + rng.random_range(-reach..=reach)).clamp(lo, hi)).collect();
         let step = rng.random_range(steps.0..steps.1);
         let length = distance(&a, &b);
-        if short && length > 62.0 * step {
-            let t = 62.0 * step / length;
+        if let Some(most) = most.filter(|&m| length > m * step) {
+            let t = most * step / length;
             b = a.iter().zip(&b).map(|(x, y)| x + t * (y - x)).collect();
         }
         let certified = world.check_motion(&a, &b, step);
@@ -93,7 +94,7 @@ proptest! {
     fn certified_motion_checks_equal_one_by_one_checks(seed in 0u64..1_000_000, reach in 0.01f64..1.5) {
         let (_, _, worlds) = arm_worlds();
         for world in worlds {
-            compare(world, seed, 10, reach, (0.005, 0.1), false);
+            compare(world, seed, 10, reach, (0.005, 0.1), None);
         }
     }
 }
@@ -104,10 +105,29 @@ proptest! {
 fn certified_motion_checks_reject_motions_through_collisions() {
     let (_, _, worlds) = arm_worlds();
     for world in worlds {
-        let tally = compare(world, 3, 600, 1.5, (0.03, 0.06), true);
+        let tally = compare(world, 3, 600, 1.5, (0.03, 0.06), Some(62.0));
         println!("{tally:?}");
         assert!(tally.valid > 50 && tally.passes_through > 50 && tally.end_invalid > 50, "{tally:?}");
     }
+}
+
+/// Motions of 60 to 68 steps, on both sides of the one-word bit sets (motions of fewer than
+/// 64 states) and the multi-word ones: same verdicts and counts, valid motions and motions
+/// through collisions among them.
+#[test]
+fn certified_motion_checks_across_the_word_boundary() {
+    let (_, _, worlds) = arm_worlds();
+    let mut total = Tally::default();
+    for most in 60..=68 {
+        for world in worlds {
+            let tally = compare(world, most, 30, 1.5, (0.01, 0.02), Some(most as f64));
+            assert_eq!(tally.valid + tally.end_invalid + tally.passes_through, 30, "{tally:?}");
+            total.valid += tally.valid;
+            total.passes_through += tally.passes_through;
+        }
+    }
+    println!("{total:?}");
+    assert!(total.valid > 100 && total.passes_through >= 10, "{total:?}");
 }
 
 /// The MotionBenchMaker Panda on its layered greedy sphere model (SRDF pairs), in every
@@ -123,7 +143,7 @@ fn panda_certified_motion_checks_equal_one_by_one_checks() {
     for set in &sets {
         for i in 0..set.len() {
             let world = set.sphere_world(i, &model).unwrap();
-            let tally = compare(&world, i as u64, 200, 1.0, (0.02, 0.0201), true);
+            let tally = compare(&world, i as u64, 200, 1.0, (0.02, 0.0201), Some(62.0));
             total.valid += tally.valid;
             total.end_invalid += tally.end_invalid;
             total.passes_through += tally.passes_through;

@@ -81,7 +81,8 @@ impl SphereWorld {
 
     /// Runs `test` on the placed state (`frames`, fine and coarse centres begun): `None` if
     /// it fails, else a lower bound on its sphere distance. Passes exactly when the test of
-    /// [`SphereWorld::check_state`] passes.
+    /// [`SphereWorld::check_state`] passes. Inlined into [`SphereWorld::gap_at`].
+    #[inline(always)]
     fn test_gap(&self, test: Test, frames: &[Mat34], fine: &mut Centres, rough: &mut Centres) -> Option<f64> {
         let coarse = self.coarse.as_ref().map(|(_, soa)| soa);
         match test {
@@ -96,6 +97,8 @@ impl SphereWorld {
 
     /// The gap of `test` at `q` (`None` if it fails): from the pair's table if it settles it,
     /// else on the placed state, placing it (kinematics and centres) first unless `placed`.
+    /// Inlined: the motion loop calls it for every uncertified test.
+    #[inline(always)]
     fn gap_at(&self, test: Test, q: &[f64], s: &mut Scratch, placed: &mut bool) -> Option<f64> {
         let table = match test {
             Test::Pair { p, .. } => self.table_gap(p, q),
@@ -195,10 +198,33 @@ impl SphereWorld {
             }
             all_certified(&s.certified, tests, &mut s.all);
         }
+        let verdict = if words == 1 {
+            self.check_states::<OneWord>(s, a, b, n, &order)
+        } else {
+            self.check_states::<Words>(s, a, b, n, &order)
+        };
+        s.order = order;
+        Some(verdict)
+    }
+
+    /// The state loop of [`SphereWorld::check_motion_certified`]: checks the states of the
+    /// motion `a → b` of `n` steps in `order`, skipping the tests (and states) that
+    /// `s.certified` and `s.all` certify and certifying around each computed gap. Generic
+    /// over the bit-set layout so that motions of one word keep single-word arithmetic.
+    fn check_states<B: StateBits>(
+        &self,
+        s: &mut Scratch,
+        a: &[f64],
+        b: &[f64],
+        n: usize,
+        order: &[usize],
+    ) -> (bool, u64) {
+        let tests = self.cert.tests.len();
         let mut q = std::mem::take(&mut s.q);
         let mut verdict = (true, order.len() as u64);
         'states: for (pos, &i) in order.iter().enumerate() {
-            if s.all[i / 64] >> (i % 64) & 1 == 1 {
+            let (w, bit) = B::locate(i);
+            if s.all[w] >> bit & 1 == 1 {
                 continue;
             }
             if i == n {
@@ -208,28 +234,87 @@ impl SphereWorld {
                 interpolate_into(a, b, i as f64 / n as f64, &mut q);
             }
             let mut placed = false;
-            let (row, bit) = ((i / 64) * tests, i % 64);
+            let row = w * tests;
+            // The AND of the tests' words once this state is checked.
+            let mut all = u64::MAX;
             // Most tests are certified: skip them a block at a time.
             for block in (0..tests).step_by(BLOCK) {
                 let end = (block + BLOCK).min(tests);
-                if s.certified[row + block..row + end].iter().fold(u64::MAX, |acc, &b| acc & b) >> bit & 1 == 1 {
+                let both = s.certified[row + block..row + end].iter().fold(u64::MAX, |acc, &b| acc & b);
+                if both >> bit & 1 == 1 {
+                    all &= both;
                     continue;
                 }
                 for t in block..end {
-                    if s.certified[row + t] >> bit & 1 == 0 {
-                        let Some(gap) = self.gap_at(cert.tests[t], &q, s, &mut placed) else {
+                    let mut bits = s.certified[row + t];
+                    if bits >> bit & 1 == 0 {
+                        let Some(gap) = self.gap_at(self.cert.tests[t], &q, s, &mut placed) else {
                             verdict = (false, pos as u64 + 1);
                             break 'states;
                         };
-                        set_bits(&mut s.certified[t..], tests, reach(gap, s.per_step[t], i, n));
+                        bits = B::set(&mut s.certified, tests, t, w, reach(gap, s.per_step[t], i, n));
                     }
+                    all &= bits;
                 }
             }
-            all_certified(&s.certified, tests, &mut s.all);
+            B::update_all(&s.certified, tests, w, all, &mut s.all);
         }
         s.q = q;
-        s.order = order;
-        Some(verdict)
+        verdict
+    }
+}
+
+/// The layout of a motion check's certificate bits: per state word `w` and test `t`, the word
+/// `w · tests + t` holds one bit per state (state `i` in word `i / 64`, bit `i % 64`).
+trait StateBits {
+    /// The word of state `i` and its bit in it.
+    fn locate(i: usize) -> (usize, usize);
+    /// Sets the bits `lo..=hi` of test `t` (of `tests`) and returns its word `w`.
+    fn set(bits: &mut [u64], tests: usize, t: usize, w: usize, span: (usize, usize)) -> u64;
+    /// Brings `all` up to date after a state of word `w` was checked; `and` is the AND of the
+    /// tests' words `w` after it.
+    fn update_all(bits: &[u64], tests: usize, w: usize, and: u64, all: &mut [u64]);
+}
+
+/// Motions of fewer than 64 states: one word per test.
+struct OneWord;
+
+impl StateBits for OneWord {
+    #[inline(always)]
+    fn locate(i: usize) -> (usize, usize) {
+        (0, i)
+    }
+
+    #[inline(always)]
+    fn set(bits: &mut [u64], _: usize, t: usize, _: usize, (lo, hi): (usize, usize)) -> u64 {
+        bits[t] |= (u64::MAX >> (63 - hi)) & (u64::MAX << lo);
+        bits[t]
+    }
+
+    #[inline(always)]
+    fn update_all(_: &[u64], _: usize, _: usize, and: u64, all: &mut [u64]) {
+        all[0] = and;
+    }
+}
+
+/// Longer motions: a checked state's certificates may reach into other words.
+struct Words;
+
+impl StateBits for Words {
+    #[inline(always)]
+    fn locate(i: usize) -> (usize, usize) {
+        (i / 64, i % 64)
+    }
+
+    #[inline(always)]
+    fn set(bits: &mut [u64], tests: usize, t: usize, w: usize, span: (usize, usize)) -> u64 {
+        set_bits(&mut bits[t..], tests, span);
+        bits[w * tests + t]
+    }
+
+    #[inline(always)]
+    fn update_all(bits: &[u64], tests: usize, _: usize, _: u64, all: &mut [u64]) {
+        all_certified(bits, tests, all);
     }
 }
 
