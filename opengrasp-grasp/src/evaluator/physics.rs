@@ -93,7 +93,16 @@ pub struct PhysicsCheckOptions {
     /// that fail are out of balance by many times the weight (the fixture holds a median 11
     /// weights on the ARMAR-III grasps), which springs do not fix (not traced further: a
     /// spring yields as the object pushes it, and at the 30 Hz contacts the fingers sink in by
-    /// a sizeable part of a small θ).
+    /// a sizeable part of a small θ). Traced on a two-phalanx pinch (1 kHz contacts, 0.2 s):
+    /// joint springs in a finger of two joints do not press as on the one-joint calibration
+    /// finger — a distal joint (0.5 N·m, 25 mm lever) pushed its fingertip with 0.45 N, where
+    /// an [`opengrasp_core::physics::JointTarget::Effort`] target gives τ/L = 20.0 N; a
+    /// proximal joint held by a spring (2.5 N·m cap at 1 mrad) opened 0.21 rad under about
+    /// 0.4 N·m — so on the benchmark hands' multi-joint fingers the springs are weaker than
+    /// modelled. For the same reason a TorqueSwitch breakaway (proximal joints locked by such
+    /// springs, distal joints pressing with stall torques) did not hold the pinch as calibrated
+    /// and held fewer benchmark grasps (`physics_sweep per_cell=5`: Barrett 38/79 with 1
+    /// diverged, ARMAR-III 0/80; with distal springs instead of stall torques 19/79 and 0/80).
     pub spring: Option<f64>,
     /// With `balanced`: at the end of the squeeze the balanced grip is solved again on the
     /// simulator's contacts and joint positions ([`super::grip_sim::after_squeeze`]), so the
