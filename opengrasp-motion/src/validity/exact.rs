@@ -10,6 +10,10 @@ use crate::error::Result;
 
 use super::{MotionBound, StateValidityChecker};
 
+mod certified;
+
+use certified::ExactCertificates;
+
 /// A checker over core's [`CollisionWorld`]: one robot of the world moving the joints of
 /// `group`, the other joints held at `q_full`.
 ///
@@ -31,6 +35,9 @@ pub struct CollisionChecker {
     group: JointGroup,
     q_full: Vec<f64>,
     bound: MotionBound,
+    /// The state check's tests and their motion bounds, for certified motion checks (`None`
+    /// when the world cannot split the check).
+    certificates: Option<Arc<ExactCertificates>>,
 }
 
 impl CollisionChecker {
@@ -48,7 +55,8 @@ impl CollisionChecker {
     ) -> Result<Self> {
         world.in_collision(robot_id, &q_full)?;
         let bound = MotionBound::from_robot(&robot, &group)?;
-        Ok(Self { world, robot_id, robot, group, q_full, bound })
+        let certificates = ExactCertificates::new(&world, robot_id, &robot, &group, &bound).map(Arc::new);
+        Ok(Self { world, robot_id, robot, group, q_full, bound, certificates })
     }
 
     /// Replaces the motion bound (e.g. one that includes carried objects).
@@ -110,5 +118,28 @@ impl StateValidityChecker for CollisionChecker {
             return None;
         }
         Some(!self.world.in_self_collision_unchecked(self.robot_id, &full))
+    }
+    /// The gap of every test of the state check (see [`CollisionWorld::gap_tests`]): lower
+    /// bounds on the distances of each self-collision pair and of each part to the obstacles.
+    fn state_certificate(&self, q: &[f64], out: &mut Vec<f64>) -> bool {
+        let Some(cert) = &self.certificates else {
+            out.clear();
+            return self.is_valid(q);
+        };
+        let valid = self.world.gaps_unchecked(self.robot_id, &self.full(q), &cert.tests, certified::CAP, |_| false, out);
+        if !valid {
+            out.clear();
+        }
+        valid
+    }
+    /// The states near the ends and near each checked state are certified by the tests'
+    /// gaps and the motion bound, not checked (same verdict as checking every state).
+    fn is_motion_valid_between(&self, a: &[f64], a_cert: &[f64], b: &[f64], b_cert: &[f64], step: f64) -> bool {
+        let Some(cert) = &self.certificates else {
+            return self.is_motion_valid(a, b, step);
+        };
+        cert.motion_valid(a, b, step, (a_cert, b_cert), |q, skip, gaps| {
+            self.world.gaps_unchecked(self.robot_id, &self.full(q), &cert.tests, certified::CAP, skip, gaps)
+        })
     }
 }
