@@ -118,7 +118,8 @@ fn prm_roadmap_on_the_exact_checker_equals_the_one_by_one_roadmap() {
         let mut prm = Prm::new(PrmOptions { nodes: 80, k: 8, ..PrmOptions::default() });
         let context = SetupContext { robot: &robot, group: &group, q_full: &q_full, checker, seed, step: 0.05 };
         prm.setup(&context).unwrap();
-        let roadmap: Vec<Vec<(usize, f64)>> = (0..prm.roadmap_nodes()).map(|i| prm.roadmap_neighbours(i).to_vec()).collect();
+        let roadmap: Vec<Vec<(usize, f64)>> =
+            (0..prm.roadmap_nodes()).map(|i| prm.roadmap_neighbours(i).to_vec()).collect();
         let goal = Goal::Configuration(goal.to_vec());
         let problem = PlanningProblem {
             robot: &robot,

@@ -126,7 +126,8 @@ impl StateValidityChecker for CollisionChecker {
             out.clear();
             return self.is_valid(q);
         };
-        let valid = self.world.gaps_unchecked(self.robot_id, &self.full(q), &cert.tests, certified::CAP, |_| false, out);
+        let valid =
+            self.world.gaps_unchecked(self.robot_id, &self.full(q), &cert.tests, certified::CAP, |_| false, out);
         if !valid {
             out.clear();
         }

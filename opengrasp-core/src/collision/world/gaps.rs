@@ -174,9 +174,12 @@ mod tests {
     fn arm_among_obstacles() -> (Scene, CollisionWorld, RobotId) {
         let mut scene = Scene::new("arm among obstacles");
         let arm = scene.add_robot("arm", Arc::new(samples::seven_dof_arm().unwrap()), Isometry3::identity()).unwrap();
-        let body = |name: &str, pose: Isometry3<f64>, g: Geometry| StaticBody::new(name, pose, vec![Shape::at_origin(g)]);
+        let body =
+            |name: &str, pose: Isometry3<f64>, g: Geometry| StaticBody::new(name, pose, vec![Shape::at_origin(g)]);
         scene.add_body(body("wall", Isometry3::translation(0.5, 0.0, 0.5), Geometry::cuboid(0.05, 1.0, 1.0))).unwrap();
-        scene.add_body(body("ball", Isometry3::translation(-0.3, 0.3, 0.8), Geometry::Sphere { radius: 0.12 })).unwrap();
+        scene
+            .add_body(body("ball", Isometry3::translation(-0.3, 0.3, 0.8), Geometry::Sphere { radius: 0.12 }))
+            .unwrap();
         let post = Geometry::Cylinder { radius: 0.05, length: 1.2 };
         scene.add_body(body("post", Isometry3::translation(-0.1, -0.45, 0.6), post)).unwrap();
         (scene.clone(), CollisionWorld::new(&scene).unwrap(), arm)
@@ -242,12 +245,8 @@ mod tests {
         let tests = world.gap_tests(arm).unwrap().unwrap();
         let mut gaps = Vec::new();
         assert!(world.gaps_unchecked(arm, &[0.0; 7], &tests, 1.0, |_| false, &mut gaps));
-        let part_gaps: Vec<f64> = tests
-            .iter()
-            .zip(&gaps)
-            .filter(|(t, _)| matches!(t, GapTest::Obstacles { .. }))
-            .map(|(_, &g)| g)
-            .collect();
+        let part_gaps: Vec<f64> =
+            tests.iter().zip(&gaps).filter(|(t, _)| matches!(t, GapTest::Obstacles { .. })).map(|(_, &g)| g).collect();
         let expected = [0.32, 0.34, 0.34, 0.34, 0.34, 0.34, 0.34, 0.34, 0.36];
         assert_eq!(part_gaps.len(), expected.len());
         for (g, e) in part_gaps.iter().zip(expected) {
@@ -266,14 +265,18 @@ mod tests {
     fn carrying_robots_have_no_gap_tests() {
         let (mut scene, _, arm) = arm_among_obstacles();
         let cube = Shape::at_origin(Geometry::cuboid(0.05, 0.05, 0.05));
-        let held = scene.add_object(SceneObject::new("cube", Isometry3::translation(0.0, 0.0, 1.4), vec![cube], 0.1)).unwrap();
+        let held =
+            scene.add_object(SceneObject::new("cube", Isometry3::translation(0.0, 0.0, 1.4), vec![cube], 0.1)).unwrap();
         scene.attach(held, arm, "tool").unwrap();
         let world = CollisionWorld::new(&scene).unwrap();
         assert_eq!(world.gap_tests(arm).unwrap(), None);
         let tests = [GapTest::Obstacles { part: 0, link: LinkId(0) }];
         let mut gaps = Vec::new();
         let q = [0.0; 7];
-        assert_eq!(world.gaps_unchecked(arm, &q, &tests, 0.5, |_| false, &mut gaps), !world.in_collision_unchecked(arm, &q));
+        assert_eq!(
+            world.gaps_unchecked(arm, &q, &tests, 0.5, |_| false, &mut gaps),
+            !world.in_collision_unchecked(arm, &q)
+        );
         assert_eq!(gaps, vec![0.0]);
         assert!(world.gap_tests(RobotId(7)).is_err());
     }
