@@ -25,6 +25,10 @@ use certified::ExactCertificates;
 /// links' collision geometry. Because the link distances exclude self-distance, the continuous
 /// validator checks self-collision by a fine discrete check
 /// ([`CcdOptions::self_collision_step`](crate::validate::CcdOptions::self_collision_step)).
+/// Motion checks ([`StateValidityChecker::check_motion`], and PRM's roadmap edges with the
+/// vertices' [`StateValidityChecker::state_certificate`]s) skip the states that the distance
+/// lower bounds of a checked state ([`CollisionWorld::gaps_unchecked`]) and the motion bound
+/// certify: same verdicts and counts as checking every state.
 /// Objects attached to a link are not in the motion bound: pass your own bound with
 /// [`CollisionChecker::with_bound`] when carrying objects.
 #[derive(Clone, Debug)]
@@ -68,6 +72,16 @@ impl CollisionChecker {
     /// The collision world.
     pub fn world(&self) -> &CollisionWorld {
         &self.world
+    }
+
+    /// [`ExactCertificates::motion_valid`] on this world (the default check without tests).
+    fn certified_motion(&self, a: &[f64], b: &[f64], step: f64, ends: (&[f64], &[f64])) -> (bool, u64) {
+        let Some(cert) = &self.certificates else {
+            return super::OneByOne(self).check_motion(a, b, step);
+        };
+        cert.motion_valid(a, b, step, ends, |q, skip, gaps| {
+            self.world.gaps_unchecked(self.robot_id, &self.full(q), &cert.tests, certified::CAP, skip, gaps)
+        })
     }
 
     fn full(&self, q: &[f64]) -> Vec<f64> {
@@ -136,11 +150,11 @@ impl StateValidityChecker for CollisionChecker {
     /// The states near the ends and near each checked state are certified by the tests'
     /// gaps and the motion bound, not checked (same verdict as checking every state).
     fn is_motion_valid_between(&self, a: &[f64], a_cert: &[f64], b: &[f64], b_cert: &[f64], step: f64) -> bool {
-        let Some(cert) = &self.certificates else {
-            return self.is_motion_valid(a, b, step);
-        };
-        cert.motion_valid(a, b, step, (a_cert, b_cert), |q, skip, gaps| {
-            self.world.gaps_unchecked(self.robot_id, &self.full(q), &cert.tests, certified::CAP, skip, gaps)
-        })
+        self.certified_motion(a, b, step, (a_cert, b_cert)).0
+    }
+    /// The one-by-one verdict and count, with the states each checked state certifies
+    /// skipped (see [`CollisionChecker::is_motion_valid_between`]).
+    fn check_motion(&self, a: &[f64], b: &[f64], step: f64) -> (bool, u64) {
+        self.certified_motion(a, b, step, (&[], &[]))
     }
 }

@@ -256,7 +256,7 @@ mod tests {
         for (t, &g) in gaps.iter().enumerate() {
             assert!(if t % 2 == 0 { g.is_nan() } else { g <= 0.33 }, "{t}: {g}");
         }
-        assert!(gaps.iter().any(|&g| g == 0.33));
+        assert!(gaps.contains(&0.33));
     }
 
     /// A robot carrying an object has no split check; its gaps are 0 and its verdict the

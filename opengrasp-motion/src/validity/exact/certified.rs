@@ -98,8 +98,9 @@ impl ExactCertificates {
 
     /// The verdict of the discrete check of `a → b` at `step` (`b` and the `n` subdivision
     /// states, `a` excluded), with the tests certified by `a_gaps`/`b_gaps` (the gaps of the
-    /// end states, one per test, or empty) and by each checked state skipped. `check(q, skip,
-    /// gaps)` runs the tests without `skip(t)` at group state `q` (see
+    /// end states, one per test, or empty) and by each checked state skipped, and the number
+    /// of states the one-by-one check in the same order tests (up to the first invalid one).
+    /// `check(q, skip, gaps)` runs the tests without `skip(t)` at group state `q` (see
     /// [`CollisionWorld::gaps_unchecked`]).
     pub(super) fn motion_valid(
         &self,
@@ -108,7 +109,7 @@ impl ExactCertificates {
         step: f64,
         ends: (&[f64], &[f64]),
         mut check: impl FnMut(&[f64], &dyn Fn(usize) -> bool, &mut Vec<f64>) -> bool,
-    ) -> bool {
+    ) -> (bool, u64) {
         let n = segment_subdivisions(a, b, step);
         let tests = self.len();
         let per_step = self.per_step(a, b, n);
@@ -132,7 +133,8 @@ impl ExactCertificates {
         }
         let mut q = Vec::with_capacity(a.len());
         let mut gaps = Vec::with_capacity(tests);
-        for i in order {
+        let states = order.len() as u64;
+        for (pos, i) in order.into_iter().enumerate() {
             let is_certified = |t: usize| certified[t * words + i / 64] >> (i % 64) & 1 == 1;
             if (0..tests).all(is_certified) {
                 continue;
@@ -144,7 +146,7 @@ impl ExactCertificates {
                 interpolate_into(a, b, i as f64 / n as f64, &mut q);
             }
             if !check(&q, &is_certified, &mut gaps) {
-                return false;
+                return (false, pos as u64 + 1);
             }
             for (t, &gap) in gaps.iter().enumerate() {
                 if !gap.is_nan() {
@@ -152,7 +154,7 @@ impl ExactCertificates {
                 }
             }
         }
-        true
+        (true, states)
     }
 }
 
