@@ -12,7 +12,7 @@
 use opengrasp_core::collision::{CollisionWorld, GapTest};
 use opengrasp_core::model::{JointGroup, LinkId, Robot};
 
-use crate::validate::{interpolate_into, segment_subdivisions};
+use crate::validate::{segment_subdivisions, subdivision_into};
 use crate::validity::MotionBound;
 
 /// Absolute slack (m) taken off every gap: covers the rounding of the kinematics, of the
@@ -139,12 +139,7 @@ impl ExactCertificates {
             if (0..tests).all(is_certified) {
                 continue;
             }
-            if i == n {
-                q.clear();
-                q.extend_from_slice(b);
-            } else {
-                interpolate_into(a, b, i as f64 / n as f64, &mut q);
-            }
+            subdivision_into(a, b, i, n, &mut q);
             if !check(&q, &is_certified, &mut gaps) {
                 return (false, pos as u64 + 1);
             }
