@@ -28,6 +28,17 @@ pub fn interpolate_into(a: &[f64], b: &[f64], t: f64, out: &mut Vec<f64>) {
     out.extend(a.iter().zip(b).map(|(x, y)| x + t * (y - x)));
 }
 
+/// State `i` of the `n` equal subdivisions of `a → b` into `out`: `b` itself for `i == n`,
+/// else the interpolation at `i / n` (the states of [`segment_valid_discrete`]).
+pub(crate) fn subdivision_into(a: &[f64], b: &[f64], i: usize, n: usize, out: &mut Vec<f64>) {
+    if i == n {
+        out.clear();
+        out.extend_from_slice(b);
+    } else {
+        interpolate_into(a, b, i as f64 / n as f64, out);
+    }
+}
+
 /// Length of a path in C-space (sum of Euclidean segment lengths).
 pub fn path_length(path: &[Vec<f64>]) -> f64 {
     path.windows(2).map(|w| distance(&w[0], &w[1])).sum()

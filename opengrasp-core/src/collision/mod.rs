@@ -51,7 +51,7 @@ use crate::scene::{BodyId, ObjectId, RobotId};
 
 pub use climbing::ClimbingHull;
 pub use shapes::{geometry_to_parry, shapes_to_parry, MeshRepresentation};
-pub use world::{CollisionWorld, NearestTriangles};
+pub use world::{CollisionWorld, GapTest, NearestTriangles};
 
 /// Something a robot can touch.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

@@ -10,6 +10,10 @@ use crate::error::Result;
 
 use super::{MotionBound, StateValidityChecker};
 
+mod certified;
+
+use certified::ExactCertificates;
+
 /// A checker over core's [`CollisionWorld`]: one robot of the world moving the joints of
 /// `group`, the other joints held at `q_full`.
 ///
@@ -21,6 +25,10 @@ use super::{MotionBound, StateValidityChecker};
 /// links' collision geometry. Because the link distances exclude self-distance, the continuous
 /// validator checks self-collision by a fine discrete check
 /// ([`CcdOptions::self_collision_step`](crate::validate::CcdOptions::self_collision_step)).
+/// Motion checks ([`StateValidityChecker::check_motion`], and PRM's roadmap edges with the
+/// vertices' [`StateValidityChecker::state_certificate`]s) skip the states that the distance
+/// lower bounds of a checked state ([`CollisionWorld::gaps_unchecked`]) and the motion bound
+/// certify: same verdicts and counts as checking every state.
 /// Objects attached to a link are not in the motion bound: pass your own bound with
 /// [`CollisionChecker::with_bound`] when carrying objects.
 #[derive(Clone, Debug)]
@@ -31,6 +39,9 @@ pub struct CollisionChecker {
     group: JointGroup,
     q_full: Vec<f64>,
     bound: MotionBound,
+    /// The state check's tests and their motion bounds, for certified motion checks (`None`
+    /// when the world cannot split the check).
+    certificates: Option<Arc<ExactCertificates>>,
 }
 
 impl CollisionChecker {
@@ -48,7 +59,8 @@ impl CollisionChecker {
     ) -> Result<Self> {
         world.in_collision(robot_id, &q_full)?;
         let bound = MotionBound::from_robot(&robot, &group)?;
-        Ok(Self { world, robot_id, robot, group, q_full, bound })
+        let certificates = ExactCertificates::new(&world, robot_id, &robot, &group, &bound).map(Arc::new);
+        Ok(Self { world, robot_id, robot, group, q_full, bound, certificates })
     }
 
     /// Replaces the motion bound (e.g. one that includes carried objects).
@@ -60,6 +72,16 @@ impl CollisionChecker {
     /// The collision world.
     pub fn world(&self) -> &CollisionWorld {
         &self.world
+    }
+
+    /// [`ExactCertificates::motion_valid`] on this world (the default check without tests).
+    fn certified_motion(&self, a: &[f64], b: &[f64], step: f64, ends: (&[f64], &[f64])) -> (bool, u64) {
+        let Some(cert) = &self.certificates else {
+            return super::OneByOne(self).check_motion(a, b, step);
+        };
+        cert.motion_valid(a, b, step, ends, |q, skip, gaps| {
+            self.world.gaps_unchecked(self.robot_id, &self.full(q), &cert.tests, certified::CAP, skip, gaps)
+        })
     }
 
     fn full(&self, q: &[f64]) -> Vec<f64> {
@@ -110,5 +132,29 @@ impl StateValidityChecker for CollisionChecker {
             return None;
         }
         Some(!self.world.in_self_collision_unchecked(self.robot_id, &full))
+    }
+    /// The gap of every test of the state check (see [`CollisionWorld::gap_tests`]): lower
+    /// bounds on the distances of each self-collision pair and of each part to the obstacles.
+    fn state_certificate(&self, q: &[f64], out: &mut Vec<f64>) -> bool {
+        let Some(cert) = &self.certificates else {
+            out.clear();
+            return self.is_valid(q);
+        };
+        let valid =
+            self.world.gaps_unchecked(self.robot_id, &self.full(q), &cert.tests, certified::CAP, |_| false, out);
+        if !valid {
+            out.clear();
+        }
+        valid
+    }
+    /// The states near the ends and near each checked state are certified by the tests'
+    /// gaps and the motion bound, not checked (same verdict as checking every state).
+    fn is_motion_valid_between(&self, a: &[f64], a_cert: &[f64], b: &[f64], b_cert: &[f64], step: f64) -> bool {
+        self.certified_motion(a, b, step, (a_cert, b_cert)).0
+    }
+    /// The one-by-one verdict and count, with the states each checked state certifies
+    /// skipped (see [`CollisionChecker::is_motion_valid_between`]).
+    fn check_motion(&self, a: &[f64], b: &[f64], step: f64) -> (bool, u64) {
+        self.certified_motion(a, b, step, (&[], &[]))
     }
 }

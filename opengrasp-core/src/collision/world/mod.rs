@@ -2,6 +2,7 @@
 //! the queries, [`narrow`] tests shape pairs).
 
 mod distances;
+mod gaps;
 mod mesh_distance;
 mod narrow;
 mod queries;
@@ -22,6 +23,8 @@ use crate::error::{CoreError, Result};
 use crate::kinematics::forward_kinematics_into;
 use crate::model::{JointKind, LinkId, Robot};
 use crate::scene::{BodyId, ObjectId, RobotId, Scene};
+
+pub use gaps::GapTest;
 
 /// A part of a static body, placed in the world.
 #[derive(Clone, Debug)]
