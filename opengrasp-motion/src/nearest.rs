@@ -349,8 +349,9 @@ impl KdTree {
     }
 
     /// Visits the leaves whose region may hold a point within squared distance `bound()` of
-    /// `q`, nearest region first; `off` holds the per-axis distances from `q` to the region.
-    fn search(&self, n: usize, q: &[f64], off: &mut [f64], best: &mut impl Collect) {
+    /// `q`, nearest region first; `off` holds the per-axis distances from `q` to the region and
+    /// `rd` their squared sum, kept incrementally (the classic kd-tree "incremental distance").
+    fn search(&self, n: usize, q: &[f64], off: &mut [f64], rd: f64, best: &mut impl Collect) {
         match &self.nodes[n] {
             KdNode::Leaf(ids) => {
                 for &i in ids {
@@ -360,14 +361,17 @@ impl KdTree {
             &KdNode::Split { axis, value, left, right } => {
                 let diff = q[axis] - value;
                 let (near, far) = if diff < 0.0 { (left, right) } else { (right, left) };
-                self.search(near, q, off, best);
+                self.search(near, q, off, rd, best);
                 let old = off[axis];
                 off[axis] = diff.abs();
-                // Summed in joint order like `squared_distance`, each term no larger than the
-                // point's own term: a lower bound, with rounding, on every point under `far`.
-                let lower: f64 = off.iter().map(|o| o * o).sum();
-                if lower <= best.bound() {
-                    self.search(far, q, off, best);
+                let far_rd = rd - old * old + diff * diff;
+                // The incremental sum only decides visits (visiting more never changes an
+                // answer); a prune is confirmed by the bound summed in joint order like
+                // `squared_distance`, each term no larger than the point's own term: a lower
+                // bound, with rounding, on every point under `far`.
+                let bound = best.bound();
+                if far_rd <= bound || off.iter().map(|o| o * o).sum::<f64>() <= bound {
+                    self.search(far, q, off, far_rd, best);
                 }
                 off[axis] = old;
             }
@@ -378,7 +382,7 @@ impl KdTree {
         let mut best = Best { k, items: Vec::with_capacity(k.min(64) + 1) };
         if k > 0 {
             let mut off = vec![0.0; self.points.dim];
-            self.search(0, q, &mut off, &mut best);
+            self.search(0, q, &mut off, 0.0, &mut best);
         }
         best
     }
@@ -430,7 +434,7 @@ impl NearestNeighbors for KdTree {
             heap.resize(dim, 0.0);
             &mut heap[..]
         };
-        self.search(0, q, off, &mut best);
+        self.search(0, q, off, 0.0, &mut best);
         Ok(best.0.map(|e| e.1))
     }
     fn k_nearest(&self, q: &[f64], k: usize, out: &mut Vec<(usize, f64)>) -> Result<()> {
@@ -473,7 +477,7 @@ impl KdTree {
 
 #[cfg(test)]
 mod tests {
-    use super::{squared_distance, squared_distance_within};
+    use super::{squared_distance, squared_distance_within, KdTree, LinearScan, NearestNeighbors};
     use proptest::prelude::*;
 
     #[test]
@@ -487,6 +491,37 @@ mod tests {
     }
 
     proptest! {
+        /// Ties under rounding: coordinates on a 0.1 grid (not exact in binary) with duplicates,
+        /// queried at stored points and with the radius exactly a stored point's distance. The
+        /// kd-tree's incrementally summed lower bound must prune exactly like the linear scan.
+        #[test]
+        fn kd_tree_keeps_rounded_ties(
+            dim in 1usize..7,
+            cells in prop::collection::vec(prop::collection::vec(-4i32..=4, 6), 1..400),
+            pick in any::<prop::sample::Index>(),
+            k in 1usize..30,
+        ) {
+            let points: Vec<Vec<f64>> = cells
+                .iter()
+                .map(|c| c[..dim].iter().map(|&v| f64::from(v) * 0.1).collect())
+                .collect();
+            let (mut kd, mut lin) = (KdTree::new(dim), LinearScan::new(dim));
+            for p in &points {
+                kd.add(p).unwrap();
+                lin.add(p).unwrap();
+            }
+            let q: Vec<f64> = points[pick.index(points.len())].iter().map(|v| v + 0.05).collect();
+            prop_assert_eq!(kd.nearest(&q).unwrap(), lin.nearest(&q).unwrap());
+            let (mut a, mut b) = (Vec::new(), Vec::new());
+            kd.k_nearest(&q, k, &mut a).unwrap();
+            lin.k_nearest(&q, k, &mut b).unwrap();
+            prop_assert_eq!(&a, &b);
+            let r = squared_distance(&points[pick.index(points.len()) / 2], &q).sqrt();
+            kd.within_radius(&q, r, &mut a).unwrap();
+            lin.within_radius(&q, r, &mut b).unwrap();
+            prop_assert_eq!(a, b);
+        }
+
         /// At or above the full sum the result is the full sum to the bit; below it, a value
         /// above the bound (never at or below it, where a tie could be taken).
         #[test]

@@ -322,8 +322,26 @@ impl StateBits for Words {
 /// `lo..=hi`, those within `⌊(gap − slack) · per_step⌋` of `i`, saturating (negative → only
 /// `i`, ∞ → all).
 fn reach(gap: f64, per_step: f64, i: usize, n: usize) -> (usize, usize) {
-    let reach = (((gap - SLACK) * per_step) as usize).min(n);
+    let reach = steps_within((gap - SLACK) * per_step, n);
     (i.saturating_sub(reach), (i + reach).min(n))
+}
+
+/// `(x as usize).min(n)` without the saturating float-to-unsigned conversion (NaN and
+/// negatives → 0, ≥ `n` or ∞ → `n`): in range, the value fits an `i64`, whose truncating
+/// conversion is a single instruction.
+#[inline(always)]
+fn steps_within(x: f64, n: usize) -> usize {
+    // 2⁶³: every non-negative f64 below it converts to `i64` exactly (truncated).
+    const I64_END: f64 = 9_223_372_036_854_775_808.0;
+    if x >= n as f64 {
+        n
+    } else if x > 0.0 && x < I64_END {
+        x as i64 as usize
+    } else if x > 0.0 {
+        (x as usize).min(n)
+    } else {
+        0
+    }
 }
 
 /// Sets the bits `lo..=hi` of a bit set stored one word every `stride` entries of `bits`.
@@ -348,3 +366,57 @@ const BLOCK: usize = 8;
 /// Motions of fewer states than this are certified (one bit per state and test: at most
 /// 512 bytes per test); longer ones are checked one by one.
 const MAX_STATES: usize = 4096;
+
+#[cfg(test)]
+mod tests {
+    use super::steps_within;
+    use proptest::prelude::*;
+
+    /// The saturating conversion `steps_within` replaces.
+    fn saturating(x: f64, n: usize) -> usize {
+        (x as usize).min(n)
+    }
+
+    /// Any f64 bit pattern: NaNs, ±∞, subnormals, huge and negative values.
+    fn any_f64() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            any::<u64>().prop_map(f64::from_bits),
+            -10.0..5000.0f64,
+            Just(f64::NAN),
+            Just(f64::INFINITY),
+            Just(f64::NEG_INFINITY),
+            Just(-0.0),
+            Just(9_223_372_036_854_775_808.0),
+            Just(18_446_744_073_709_551_616.0),
+        ]
+    }
+
+    fn any_n() -> impl Strategy<Value = usize> {
+        prop_oneof![0..5000usize, any::<usize>(), Just(usize::MAX), Just(1 << 63)]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(20_000))]
+        #[test]
+        fn steps_within_matches_saturating_cast(x in any_f64(), n in any_n()) {
+            prop_assert_eq!(steps_within(x, n), saturating(x, n));
+        }
+    }
+
+    #[test]
+    fn steps_within_edge_cases() {
+        assert_eq!(steps_within(f64::NAN, 7), 0);
+        assert_eq!(steps_within(-3.5, 7), 0);
+        assert_eq!(steps_within(3.99, 7), 3);
+        assert_eq!(steps_within(7.0, 7), 7);
+        assert_eq!(steps_within(f64::INFINITY, 7), 7);
+        assert_eq!(steps_within(1e300, usize::MAX), usize::MAX);
+        assert_eq!(steps_within(9_223_372_036_854_775_808.0, usize::MAX), 1 << 63);
+        // Around every representable boundary near 2⁶³ and 2⁶⁴.
+        for n in [(1usize << 63) - 1, 1 << 63, (1 << 63) + 2048, usize::MAX - 1, usize::MAX] {
+            for x in [n as f64, (n as f64).next_down(), (n as f64).next_up()] {
+                assert_eq!(steps_within(x, n), saturating(x, n), "x = {x}, n = {n}");
+            }
+        }
+    }
+}
