@@ -122,24 +122,38 @@ fn segment_valid_discrete_first(
         Some(true) => {}
     }
     let n = segment_subdivisions(a, b, step);
-    if n <= 1 {
-        return true;
-    }
-    let mut stride = n.next_power_of_two() / 2;
-    while stride >= 1 {
-        let mut i = stride;
-        while i < n {
-            interpolate_into(a, b, i as f64 / n as f64, q);
-            match valid(q) {
-                Some(false) => return false,
-                None => return true,
-                Some(true) => {}
-            }
-            i += 2 * stride;
+    for i in coarse_to_fine(n) {
+        interpolate_into(a, b, i as f64 / n as f64, q);
+        match valid(q) {
+            Some(false) => return false,
+            None => return true,
+            Some(true) => {}
         }
-        stride /= 2;
     }
     true
+}
+
+/// The subdivision states `1..n` of a motion of `n` steps in the order of the discrete check
+/// ([`segment_valid_discrete`]): coarse to fine, the middle first, then the quarters, and so
+/// on (state `n`, the end, and state 0, the start, are not included).
+pub(crate) fn coarse_to_fine(n: usize) -> impl Iterator<Item = usize> {
+    strides(n).flat_map(move |stride| (stride..n).step_by(2 * stride))
+}
+
+/// Appends [`coarse_to_fine`]'s states to `order`, a stride at a time (each range's exact
+/// length lets `extend` reserve it: motion checks build this list for every motion).
+#[inline]
+pub(crate) fn coarse_to_fine_into(n: usize, order: &mut Vec<usize>) {
+    for stride in strides(n) {
+        order.extend((stride..n).step_by(2 * stride));
+    }
+}
+
+/// The strides of [`coarse_to_fine`]: the largest power of two below `n`, halved down to 1
+/// (none for `n ≤ 1`).
+fn strides(n: usize) -> impl Iterator<Item = usize> {
+    let top = if n <= 1 { 0 } else { n.next_power_of_two() / 2 };
+    std::iter::successors((top >= 1).then_some(top), |&stride| (stride > 1).then_some(stride / 2))
 }
 
 /// Discrete check of every segment of a path (and of its first state).

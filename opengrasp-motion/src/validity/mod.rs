@@ -24,6 +24,7 @@ mod greedy;
 mod obstacles;
 mod soa;
 mod spheres;
+mod steps;
 
 use std::cell::Cell;
 

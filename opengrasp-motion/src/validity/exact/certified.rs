@@ -12,7 +12,8 @@
 use opengrasp_core::collision::{CollisionWorld, GapTest};
 use opengrasp_core::model::{JointGroup, LinkId, Robot};
 
-use crate::validate::{segment_subdivisions, subdivision_into};
+use crate::validate::{coarse_to_fine_into, segment_subdivisions, subdivision_into};
+use crate::validity::steps::{per_step_into, reach, set_bits};
 use crate::validity::MotionBound;
 
 /// Absolute slack (m) taken off every gap: covers the rounding of the kinematics, of the
@@ -84,18 +85,6 @@ impl ExactCertificates {
         self.tests.len()
     }
 
-    /// Per test, the reciprocal of its bound per step of the motion `a → b` in `n` steps
-    /// (∞ if the test cannot change), the bound inflated against rounding.
-    fn per_step(&self, a: &[f64], b: &[f64], n: usize) -> Vec<f64> {
-        self.weights
-            .chunks_exact(self.dim.max(1))
-            .map(|w| {
-                let d: f64 = w.iter().zip(a).zip(b).map(|((w, x), y)| w * (y - x).abs()).sum();
-                n.max(1) as f64 / (d * (1.0 + 1e-9))
-            })
-            .collect()
-    }
-
     /// The verdict of the discrete check of `a → b` at `step` (`b` and the `n` subdivision
     /// states, `a` excluded), with the tests certified by `a_gaps`/`b_gaps` (the gaps of the
     /// end states, one per test, or empty) and by each checked state skipped, and the number
@@ -112,25 +101,24 @@ impl ExactCertificates {
     ) -> (bool, u64) {
         let n = segment_subdivisions(a, b, step);
         let tests = self.len();
-        let per_step = self.per_step(a, b, n);
+        let mut per_step = Vec::with_capacity(tests);
+        per_step_into(&self.weights, self.dim, a, b, n, &mut per_step);
         let words = n / 64 + 1;
         // Per test (row of `words`), a bit per state index: certified.
         let mut certified = vec![0u64; tests * words];
         for (state, gaps) in [(0, ends.0), (n, ends.1)] {
             if gaps.len() == tests {
                 for t in 0..tests {
-                    set_bits(&mut certified[t * words..(t + 1) * words], reach(gaps[t], per_step[t], state, n));
+                    set_bits(
+                        &mut certified[t * words..(t + 1) * words],
+                        1,
+                        reach(gaps[t], SLACK, per_step[t], state, n),
+                    );
                 }
             }
         }
         let mut order = vec![n];
-        if n > 1 {
-            let mut stride = n.next_power_of_two() / 2;
-            while stride >= 1 {
-                order.extend((stride..n).step_by(2 * stride));
-                stride /= 2;
-            }
-        }
+        coarse_to_fine_into(n, &mut order);
         let mut q = Vec::with_capacity(a.len());
         let mut gaps = Vec::with_capacity(tests);
         let states = order.len() as u64;
@@ -145,56 +133,10 @@ impl ExactCertificates {
             }
             for (t, &gap) in gaps.iter().enumerate() {
                 if !gap.is_nan() {
-                    set_bits(&mut certified[t * words..(t + 1) * words], reach(gap, per_step[t], i, n));
+                    set_bits(&mut certified[t * words..(t + 1) * words], 1, reach(gap, SLACK, per_step[t], i, n));
                 }
             }
         }
         (true, states)
-    }
-}
-
-/// The states of a motion of `n` steps that a test passing with `gap` at state `i` certifies:
-/// `lo..=hi`, those within `⌊(gap − slack) · per_step⌋` of `i` (only `i` when that is
-/// negative, all when infinite).
-fn reach(gap: f64, per_step: f64, i: usize, n: usize) -> (usize, usize) {
-    let steps = ((gap - SLACK) * per_step).max(0.0);
-    let reach = if steps >= n as f64 { n } else { steps as usize };
-    (i.saturating_sub(reach), (i + reach).min(n))
-}
-
-/// Sets the bits `lo..=hi` of a bit set.
-fn set_bits(bits: &mut [u64], (lo, hi): (usize, usize)) {
-    for (w, word) in bits.iter_mut().enumerate().take(hi / 64 + 1).skip(lo / 64) {
-        let from = if w == lo / 64 { lo % 64 } else { 0 };
-        let to = if w == hi / 64 { hi % 64 } else { 63 };
-        *word |= (u64::MAX >> (63 - to)) & (u64::MAX << from);
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn reach_counts_whole_steps_inside_the_gap() {
-        // gap 0.1 m, 0.03 m per step: 3 steps either side (0.09 < 0.1 − slack < 0.12).
-        assert_eq!(reach(0.1, 1.0 / 0.03, 10, 20), (7, 13));
-        assert_eq!(reach(0.1, 1.0 / 0.03, 1, 20), (0, 4));
-        assert_eq!(reach(0.1, 1.0 / 0.03, 19, 20), (16, 20));
-        // A gap within the slack certifies only the state itself; an unbounded one all.
-        assert_eq!(reach(0.5e-6, 1e9, 5, 20), (5, 5));
-        assert_eq!(reach(0.1, f64::INFINITY, 5, 20), (0, 20));
-    }
-
-    #[test]
-    fn set_bits_spans_words() {
-        let mut bits = [0u64; 3];
-        set_bits(&mut bits, (60, 130));
-        assert_eq!(bits[0], 0xF000_0000_0000_0000);
-        assert_eq!(bits[1], u64::MAX);
-        assert_eq!(bits[2], 0b111);
-        let mut one = [0u64; 1];
-        set_bits(&mut one, (5, 5));
-        assert_eq!(one[0], 1 << 5);
     }
 }

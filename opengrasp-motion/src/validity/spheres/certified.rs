@@ -11,9 +11,10 @@
 //! are those of checking every state in the default order.
 
 use super::{SphereWorld, StateValidityChecker};
-use crate::validate::{interpolate_into, segment_subdivisions};
+use crate::validate::{coarse_to_fine_into, interpolate_into, segment_subdivisions};
 use crate::validity::chain::Mat34;
 use crate::validity::soa::{Centres, Scratch};
+use crate::validity::steps::{per_step_into, reach, set_bits};
 use crate::validity::MotionBound;
 
 /// Absolute slack (m) taken off every certified gap: covers the rounding of the kinematics
@@ -168,22 +169,12 @@ impl SphereWorld {
         let mut order = std::mem::take(&mut s.order);
         order.clear();
         order.push(n);
-        if n > 1 {
-            let mut stride = n.next_power_of_two() / 2;
-            while stride >= 1 {
-                order.extend((stride..n).step_by(2 * stride));
-                stride /= 2;
-            }
-        }
+        coarse_to_fine_into(n, &mut order);
         // Per test, the reciprocal of its bound per step (∞ if it cannot change), the bound
         // inflated against rounding.
         let dim = self.dim();
         let cert = &self.cert;
-        s.per_step.clear();
-        s.per_step.extend(cert.weights.chunks_exact(dim.max(1)).map(|w| {
-            let d: f64 = w.iter().zip(a).zip(b).map(|((w, x), y)| w * (y - x).abs()).sum();
-            n.max(1) as f64 / (d * (1.0 + 1e-9))
-        }));
+        per_step_into(&cert.weights, dim, a, b, n, &mut s.per_step);
         // Per state word and test, a bit per state index: certified (bit 0, the start, is
         // never checked); `all`, per word, the states every test is certified at.
         let (tests, words) = (cert.tests.len(), n / 64 + 1);
@@ -193,8 +184,8 @@ impl SphereWorld {
         s.all.resize(words, 0);
         if let Some((a_gaps, b_gaps)) = ends {
             for t in 0..tests {
-                set_bits(&mut s.certified[t..], tests, reach(a_gaps[t], s.per_step[t], 0, n));
-                set_bits(&mut s.certified[t..], tests, reach(b_gaps[t], s.per_step[t], n, n));
+                set_bits(&mut s.certified[t..], tests, reach(a_gaps[t], SLACK, s.per_step[t], 0, n));
+                set_bits(&mut s.certified[t..], tests, reach(b_gaps[t], SLACK, s.per_step[t], n, n));
             }
             all_certified(&s.certified, tests, &mut s.all);
         }
@@ -252,7 +243,7 @@ impl SphereWorld {
                             verdict = (false, pos as u64 + 1);
                             break 'states;
                         };
-                        bits = B::set(&mut s.certified, tests, t, w, reach(gap, s.per_step[t], i, n));
+                        bits = B::set(&mut s.certified, tests, t, w, reach(gap, SLACK, s.per_step[t], i, n));
                     }
                     all &= bits;
                 }
@@ -318,41 +309,6 @@ impl StateBits for Words {
     }
 }
 
-/// The states of a motion of `n` steps that a test passing with `gap` at state `i` certifies:
-/// `lo..=hi`, those within `⌊(gap − slack) · per_step⌋` of `i`, saturating (negative → only
-/// `i`, ∞ → all).
-fn reach(gap: f64, per_step: f64, i: usize, n: usize) -> (usize, usize) {
-    let reach = steps_within((gap - SLACK) * per_step, n);
-    (i.saturating_sub(reach), (i + reach).min(n))
-}
-
-/// `(x as usize).min(n)` without the saturating float-to-unsigned conversion (NaN and
-/// negatives → 0, ≥ `n` or ∞ → `n`): in range, the value fits an `i64`, whose truncating
-/// conversion is a single instruction.
-#[inline(always)]
-fn steps_within(x: f64, n: usize) -> usize {
-    // 2⁶³: every non-negative f64 below it converts to `i64` exactly (truncated).
-    const I64_END: f64 = 9_223_372_036_854_775_808.0;
-    if x >= n as f64 {
-        n
-    } else if x > 0.0 && x < I64_END {
-        x as i64 as usize
-    } else if x > 0.0 {
-        (x as usize).min(n)
-    } else {
-        0
-    }
-}
-
-/// Sets the bits `lo..=hi` of a bit set stored one word every `stride` entries of `bits`.
-fn set_bits(bits: &mut [u64], stride: usize, (lo, hi): (usize, usize)) {
-    for w in lo / 64..=hi / 64 {
-        let from = if w == lo / 64 { lo % 64 } else { 0 };
-        let to = if w == hi / 64 { hi % 64 } else { 63 };
-        bits[w * stride] |= (u64::MAX >> (63 - to)) & (u64::MAX << from);
-    }
-}
-
 /// Per word, the AND of the `tests` bit sets stored word by word in `certified`.
 fn all_certified(certified: &[u64], tests: usize, all: &mut [u64]) {
     for (w, out) in all.iter_mut().enumerate() {
@@ -366,57 +322,3 @@ const BLOCK: usize = 8;
 /// Motions of fewer states than this are certified (one bit per state and test: at most
 /// 512 bytes per test); longer ones are checked one by one.
 const MAX_STATES: usize = 4096;
-
-#[cfg(test)]
-mod tests {
-    use super::steps_within;
-    use proptest::prelude::*;
-
-    /// The saturating conversion `steps_within` replaces.
-    fn saturating(x: f64, n: usize) -> usize {
-        (x as usize).min(n)
-    }
-
-    /// Any f64 bit pattern: NaNs, ±∞, subnormals, huge and negative values.
-    fn any_f64() -> impl Strategy<Value = f64> {
-        prop_oneof![
-            any::<u64>().prop_map(f64::from_bits),
-            -10.0..5000.0f64,
-            Just(f64::NAN),
-            Just(f64::INFINITY),
-            Just(f64::NEG_INFINITY),
-            Just(-0.0),
-            Just(9_223_372_036_854_775_808.0),
-            Just(18_446_744_073_709_551_616.0),
-        ]
-    }
-
-    fn any_n() -> impl Strategy<Value = usize> {
-        prop_oneof![0..5000usize, any::<usize>(), Just(usize::MAX), Just(1 << 63)]
-    }
-
-    proptest! {
-        #![proptest_config(ProptestConfig::with_cases(20_000))]
-        #[test]
-        fn steps_within_matches_saturating_cast(x in any_f64(), n in any_n()) {
-            prop_assert_eq!(steps_within(x, n), saturating(x, n));
-        }
-    }
-
-    #[test]
-    fn steps_within_edge_cases() {
-        assert_eq!(steps_within(f64::NAN, 7), 0);
-        assert_eq!(steps_within(-3.5, 7), 0);
-        assert_eq!(steps_within(3.99, 7), 3);
-        assert_eq!(steps_within(7.0, 7), 7);
-        assert_eq!(steps_within(f64::INFINITY, 7), 7);
-        assert_eq!(steps_within(1e300, usize::MAX), usize::MAX);
-        assert_eq!(steps_within(9_223_372_036_854_775_808.0, usize::MAX), 1 << 63);
-        // Around every representable boundary near 2⁶³ and 2⁶⁴.
-        for n in [(1usize << 63) - 1, 1 << 63, (1 << 63) + 2048, usize::MAX - 1, usize::MAX] {
-            for x in [n as f64, (n as f64).next_down(), (n as f64).next_up()] {
-                assert_eq!(steps_within(x, n), saturating(x, n), "x = {x}, n = {n}");
-            }
-        }
-    }
-}

@@ -88,13 +88,7 @@ impl SphereWorld {
         }
         let mut order = std::mem::take(&mut s.order);
         order.clear();
-        {
-            let mut stride = n.next_power_of_two() / 2;
-            while stride >= 1 {
-                order.extend((stride..n).step_by(2 * stride));
-                stride /= 2;
-            }
-        }
+        crate::validate::coarse_to_fine_into(n, &mut order);
         let mut verdict = (true, order.len() as u64 + 1);
         for (batch, chunk) in order.chunks(LANES).enumerate() {
             let used = self.load_lanes(s, chunk.len(), |l, q| {

@@ -1,0 +1,130 @@
+//! Arithmetic shared by the certified motion checks of the sphere model
+//! (`spheres/certified.rs`) and of the exact checker (`exact/certified.rs`): per test, its
+//! distance bound per step of a motion, the states a passing test's gap certifies, and the
+//! bit sets that record them.
+
+/// Per test, the reciprocal of its bound per step of the straight motion `a → b` in `n` steps
+/// (∞ if the test cannot change), the bound inflated against rounding, into `out`: test `t`'s
+/// distance changes by at most `Σⱼ |Δqⱼ| wⱼ` with `w` row `t` of `weights` (`dim` per test).
+#[inline(always)]
+pub(super) fn per_step_into(weights: &[f64], dim: usize, a: &[f64], b: &[f64], n: usize, out: &mut Vec<f64>) {
+    out.clear();
+    out.extend(weights.chunks_exact(dim.max(1)).map(|w| {
+        let d: f64 = w.iter().zip(a).zip(b).map(|((w, x), y)| w * (y - x).abs()).sum();
+        n.max(1) as f64 / (d * (1.0 + 1e-9))
+    }));
+}
+
+/// The states of a motion of `n` steps that a test passing with `gap` at state `i` certifies:
+/// `lo..=hi`, those within `⌊(gap − slack) · per_step⌋` of `i`, saturating (negative → only
+/// `i`, ∞ → all).
+#[inline(always)]
+pub(super) fn reach(gap: f64, slack: f64, per_step: f64, i: usize, n: usize) -> (usize, usize) {
+    let reach = steps_within((gap - slack) * per_step, n);
+    (i.saturating_sub(reach), (i + reach).min(n))
+}
+
+/// `(x as usize).min(n)` without the saturating float-to-unsigned conversion (NaN and
+/// negatives → 0, ≥ `n` or ∞ → `n`): in range, the value fits an `i64`, whose truncating
+/// conversion is a single instruction.
+#[inline(always)]
+fn steps_within(x: f64, n: usize) -> usize {
+    // 2⁶³: every non-negative f64 below it converts to `i64` exactly (truncated).
+    const I64_END: f64 = 9_223_372_036_854_775_808.0;
+    if x >= n as f64 {
+        n
+    } else if x > 0.0 && x < I64_END {
+        x as i64 as usize
+    } else if x > 0.0 {
+        (x as usize).min(n)
+    } else {
+        0
+    }
+}
+
+/// Sets the bits `lo..=hi` of a bit set stored one word every `stride` entries of `bits`.
+#[inline(always)]
+pub(super) fn set_bits(bits: &mut [u64], stride: usize, (lo, hi): (usize, usize)) {
+    for w in lo / 64..=hi / 64 {
+        let from = if w == lo / 64 { lo % 64 } else { 0 };
+        let to = if w == hi / 64 { hi % 64 } else { 63 };
+        bits[w * stride] |= (u64::MAX >> (63 - to)) & (u64::MAX << from);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{reach, set_bits, steps_within};
+    use proptest::prelude::*;
+
+    /// The saturating conversion `steps_within` replaces.
+    fn saturating(x: f64, n: usize) -> usize {
+        (x as usize).min(n)
+    }
+
+    /// Any f64 bit pattern: NaNs, ±∞, subnormals, huge and negative values.
+    fn any_f64() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            any::<u64>().prop_map(f64::from_bits),
+            -10.0..5000.0f64,
+            Just(f64::NAN),
+            Just(f64::INFINITY),
+            Just(f64::NEG_INFINITY),
+            Just(-0.0),
+            Just(9_223_372_036_854_775_808.0),
+            Just(18_446_744_073_709_551_616.0),
+        ]
+    }
+
+    fn any_n() -> impl Strategy<Value = usize> {
+        prop_oneof![0..5000usize, any::<usize>(), Just(usize::MAX), Just(1 << 63)]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(20_000))]
+        #[test]
+        fn steps_within_matches_saturating_cast(x in any_f64(), n in any_n()) {
+            prop_assert_eq!(steps_within(x, n), saturating(x, n));
+        }
+    }
+
+    #[test]
+    fn steps_within_edge_cases() {
+        assert_eq!(steps_within(f64::NAN, 7), 0);
+        assert_eq!(steps_within(-3.5, 7), 0);
+        assert_eq!(steps_within(3.99, 7), 3);
+        assert_eq!(steps_within(7.0, 7), 7);
+        assert_eq!(steps_within(f64::INFINITY, 7), 7);
+        assert_eq!(steps_within(1e300, usize::MAX), usize::MAX);
+        assert_eq!(steps_within(9_223_372_036_854_775_808.0, usize::MAX), 1 << 63);
+        // Around every representable boundary near 2⁶³ and 2⁶⁴.
+        for n in [(1usize << 63) - 1, 1 << 63, (1 << 63) + 2048, usize::MAX - 1, usize::MAX] {
+            for x in [n as f64, (n as f64).next_down(), (n as f64).next_up()] {
+                assert_eq!(steps_within(x, n), saturating(x, n), "x = {x}, n = {n}");
+            }
+        }
+    }
+
+    #[test]
+    fn reach_counts_whole_steps_inside_the_gap() {
+        // gap 0.1 m, 0.03 m per step: 3 steps either side (0.09 < 0.1 − slack < 0.12).
+        assert_eq!(reach(0.1, 1e-6, 1.0 / 0.03, 10, 20), (7, 13));
+        assert_eq!(reach(0.1, 1e-6, 1.0 / 0.03, 1, 20), (0, 4));
+        assert_eq!(reach(0.1, 1e-6, 1.0 / 0.03, 19, 20), (16, 20));
+        // A gap within the slack certifies only the state itself; an unbounded one all.
+        assert_eq!(reach(0.5e-6, 1e-6, 1e9, 5, 20), (5, 5));
+        assert_eq!(reach(0.1, 1e-6, f64::INFINITY, 5, 20), (0, 20));
+    }
+
+    #[test]
+    fn set_bits_spans_words() {
+        let mut bits = [0u64; 3];
+        set_bits(&mut bits, 1, (60, 130));
+        assert_eq!(bits[0], 0xF000_0000_0000_0000);
+        assert_eq!(bits[1], u64::MAX);
+        assert_eq!(bits[2], 0b111);
+        let mut one = [0u64; 1];
+        set_bits(&mut one, 1, (5, 5));
+        assert_eq!(one[0], 1 << 5);
+    }
+}
