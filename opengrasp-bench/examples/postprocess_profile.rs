@@ -82,13 +82,35 @@ struct ProfiledCertifier<'a> {
     no: Tally,
 }
 
+impl ProfiledCertifier<'_> {
+    /// Tallies a certification that started at `t0` as proven or not.
+    fn tally(&self, t0: Instant, proven: bool) {
+        let tally = if proven { &self.yes } else { &self.no };
+        tally.n.set(tally.n.get() + 1);
+        tally.t.set(tally.t.get() + t0.elapsed());
+    }
+}
+
 impl SegmentCertifier for ProfiledCertifier<'_> {
     fn certify(&self, a: &[f64], b: &[f64], bound: &MotionBound, margin: f64, max_steps: usize) -> Certificate {
         let t0 = Instant::now();
         let r = self.inner.certify(a, b, bound, margin, max_steps);
-        let tally = if r == Certificate::Free { &self.yes } else { &self.no };
-        tally.n.set(tally.n.get() + 1);
-        tally.t.set(tally.t.get() + t0.elapsed());
+        self.tally(t0, r == Certificate::Free);
+        r
+    }
+
+    fn certify_staged(
+        &self,
+        a: &[f64],
+        b: &[f64],
+        bound: &MotionBound,
+        margin: f64,
+        steps: (usize, usize),
+        proceed: &mut dyn FnMut() -> bool,
+    ) -> Option<Certificate> {
+        let t0 = Instant::now();
+        let r = self.inner.certify_staged(a, b, bound, margin, steps, proceed);
+        self.tally(t0, r == Some(Certificate::Free));
         r
     }
 }

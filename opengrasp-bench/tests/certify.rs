@@ -428,3 +428,65 @@ fn interleaved_certifiers_give_the_certificates_of_fresh_ones() {
     println!("{free} of {} free", interleaved.len());
     assert!(free >= 5 && free < interleaved.len(), "{free} free");
 }
+
+/// A certifier with only `certify`: its `certify_staged` is the trait's default, which
+/// restarts the proof for the second stage.
+struct Restarting<'a>(&'a dyn SegmentCertifier);
+
+impl SegmentCertifier for Restarting<'_> {
+    fn certify(&self, a: &[f64], b: &[f64], bound: &MotionBound, margin: f64, max_steps: usize) -> Certificate {
+        self.0.certify(a, b, bound, margin, max_steps)
+    }
+}
+
+/// The sphere model resumes a staged proof where its first stage stopped, with the answers of
+/// the restarting default and of `certify` with the whole budget: random kitchen segments
+/// with first budgets of 5 and 20 steps, the second stage allowed or not (`None` exactly
+/// when the first stage runs out while still advancing, and then only).
+#[test]
+fn staged_certificates_resume_to_the_whole_budget_answer() {
+    let (instance, limits) = scene1();
+    let (checker, certifier) = (&*instance.checker, instance.certifier.as_deref().unwrap());
+    let bound = checker.motion_bound().unwrap();
+    let margin = ValidationOptions::default().ccd.tolerance + 1e-6;
+    let mut rng = ChaCha8Rng::seed_from_u64(13);
+    let (mut resumed, mut resumed_free, mut resumed_stuck) = (0, 0, 0);
+    for k in 0..120 {
+        let a: Vec<f64> = instance
+            .start
+            .iter()
+            .zip(&limits)
+            .map(|(v, (lo, hi))| (v + rng.random_range(-1.2..=1.2)).clamp(*lo, *hi))
+            .collect();
+        let b: Vec<f64> =
+            a.iter().zip(&limits).map(|(v, (lo, hi))| (v + rng.random_range(-0.6..=0.6)).clamp(*lo, *hi)).collect();
+        let first = if k % 2 == 0 { 5 } else { 20 };
+        let (short, whole) =
+            (certifier.certify(&a, &b, bound, margin, first), certifier.certify(&a, &b, bound, margin, 1000));
+        let exhausted = matches!(short, Certificate::Unknown { exhausted: true, .. });
+        for allow in [true, false] {
+            let mut asked = 0;
+            let mut proceed = || {
+                asked += 1;
+                allow
+            };
+            let staged = certifier.certify_staged(&a, &b, bound, margin, (first, 1000), &mut proceed);
+            let default = Restarting(certifier).certify_staged(&a, &b, bound, margin, (first, 1000), &mut || allow);
+            assert_eq!(staged, default, "{a:?} -> {b:?}");
+            assert_eq!(asked, usize::from(exhausted));
+            let expected = match (exhausted, allow) {
+                (false, _) => Some(short),
+                (true, true) => Some(whole),
+                (true, false) => None,
+            };
+            assert_eq!(staged, expected, "{a:?} -> {b:?}, first {first}, allowed {allow}");
+        }
+        if exhausted {
+            resumed += 1;
+            resumed_free += usize::from(whole == Certificate::Free);
+            resumed_stuck += usize::from(matches!(whole, Certificate::Unknown { exhausted: false, .. }));
+        }
+    }
+    println!("{resumed} resumed: {resumed_free} free, {resumed_stuck} stuck");
+    assert!(resumed >= 30 && resumed_free >= 10 && resumed_stuck >= 5, "{resumed} {resumed_free} {resumed_stuck}");
+}

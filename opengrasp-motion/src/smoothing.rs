@@ -146,9 +146,9 @@ impl<'a> SegmentCheck<'a> {
     ///   `m / max_i B_i` long, so it reaches the end within `max_queries − 2` queries and
     ///   accepts.
     ///
-    /// A proof still advancing after [`FIRST_STEPS`] steps runs on (to [`CERTIFIER_STEPS`])
-    /// only if the whole planning-step check accepts the segment (`Rejected` otherwise; the
-    /// exact checks do not repeat it after an open decision).
+    /// A proof still advancing after [`FIRST_STEPS`] steps runs on (to [`CERTIFIER_STEPS`],
+    /// resumed where it stopped) only if the whole planning-step check accepts the segment
+    /// (`Rejected` otherwise; the exact checks do not repeat it after an open decision).
     fn decided(&self, a: &[f64], b: &[f64]) -> Decision {
         let open = Decision::Open { coarse_passed: false };
         let (Some(certifier), Some(bound)) = (self.certifier, self.checker.motion_bound()) else {
@@ -173,15 +173,14 @@ impl<'a> SegmentCheck<'a> {
             return open;
         }
         let mut coarse_passed = false;
-        let certificate = match certifier.certify(a, b, bound, margin, FIRST_STEPS) {
-            Certificate::Unknown { exhausted: true, .. } => {
-                if !segment_valid_discrete(self.checker, a, b, self.options.planning_step) {
-                    return Decision::Decided(Verdict::Rejected);
-                }
-                coarse_passed = true;
-                certifier.certify(a, b, bound, margin, CERTIFIER_STEPS)
-            }
-            c => c,
+        let mut coarse = || {
+            coarse_passed = segment_valid_discrete(self.checker, a, b, self.options.planning_step);
+            coarse_passed
+        };
+        let Some(certificate) =
+            certifier.certify_staged(a, b, bound, margin, (FIRST_STEPS, CERTIFIER_STEPS), &mut coarse)
+        else {
+            return Decision::Decided(Verdict::Rejected);
         };
         match certificate {
             Certificate::Free => Decision::Decided(Verdict::Certified(margin)),

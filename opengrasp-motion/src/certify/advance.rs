@@ -61,18 +61,16 @@ struct Scratch {
 }
 
 impl Scratch {
-    /// The earliest horizon of the models and pairs, or any value of at least 1 if every one
-    /// reaches the end of the motion; drops those that do from the active lists.
-    fn earliest_horizon(&mut self) -> f64 {
-        let Self { horizon, pair_horizon, active, active_pairs, .. } = self;
-        // One pass per list: the minimum over the dropped ones is at least 1 as well.
+    /// The earliest horizon of the models, or any value of at least 1 if every one reaches
+    /// the end of the motion; drops those that do from the active list.
+    fn earliest_model_horizon(&mut self) -> f64 {
+        let Self { horizon, active, .. } = self;
+        // The minimum over the dropped ones is at least 1 as well.
         let mut earliest = f64::INFINITY;
-        let mut keep = |h: f64| {
-            earliest = earliest.min(h);
-            h < 1.0
-        };
-        active.retain(|&k| keep(horizon[k]));
-        active_pairs.retain(|&p| keep(pair_horizon[p]));
+        active.retain(|&k| {
+            earliest = earliest.min(horizon[k]);
+            horizon[k] < 1.0
+        });
         earliest
     }
 }
@@ -256,6 +254,9 @@ impl SphereCertifier {
     /// One advancement step at `t` (the state placed by [`SphereCertifier::set_state`] as
     /// step `step`): evaluates the models and pairs whose horizon is reached, or will be
     /// before `until` (so that those about to expire are evaluated together, in one step).
+    /// Returns the earliest horizon of the models and pairs, or any value of at least 1 if
+    /// every one reaches the end of the motion, and drops those that do from the active
+    /// lists.
     fn step(
         &self,
         scratch: &mut Scratch,
@@ -264,7 +265,7 @@ impl SphereCertifier {
         t: f64,
         until: f64,
         step: usize,
-    ) -> Result<(), Stuck> {
+    ) -> Result<f64, Stuck> {
         // Certifying up to a little past the end finishes the motion.
         let remaining = 1.0 - t + 1e-9;
         let refine_below = if self.exact.is_some() { remaining.min(EXACT_BELOW) } else { f64::NEG_INFINITY };
@@ -291,21 +292,31 @@ impl SphereCertifier {
         if !scratch.refine.is_empty() {
             self.refine(scratch, motion, margin, t, remaining)?;
         }
+        // The pairs' pass also drops those certified to the end and finds the earliest
+        // horizon (a stuck step leaves the list half compacted: the motion ends there).
+        let mut earliest = scratch.earliest_model_horizon();
+        let mut kept = 0;
         for a in 0..scratch.active_pairs.len() {
             let p = scratch.active_pairs[a];
-            if scratch.pair_horizon[p] > until {
-                continue;
+            if scratch.pair_horizon[p] <= until {
+                let (i, j) = self.pairs[p];
+                self.place(i, step, scratch);
+                self.place(j, step, scratch);
+                let ttc = self.pair_ttc(scratch, p, motion, margin, remaining);
+                if ttc <= 0.0 {
+                    return Err(Stuck);
+                }
+                scratch.pair_horizon[p] = scratch.pair_horizon[p].max(t + ttc);
             }
-            let (i, j) = self.pairs[p];
-            self.place(i, step, scratch);
-            self.place(j, step, scratch);
-            let ttc = self.pair_ttc(scratch, p, motion, margin, remaining);
-            if ttc <= 0.0 {
-                return Err(Stuck);
+            let h = scratch.pair_horizon[p];
+            earliest = earliest.min(h);
+            if h < 1.0 {
+                scratch.active_pairs[kept] = p;
+                kept += 1;
             }
-            scratch.pair_horizon[p] = scratch.pair_horizon[p].max(t + ttc);
         }
-        Ok(())
+        scratch.active_pairs.truncate(kept);
+        Ok(earliest)
     }
 
     /// The rates of the motion `motion.dq` (see [`Motion`]).
@@ -329,34 +340,65 @@ impl SphereCertifier {
 impl SegmentCertifier for SphereCertifier {
     fn certify(&self, a: &[f64], b: &[f64], bound: &MotionBound, margin: f64, max_steps: usize) -> Certificate {
         let unknown = Certificate::Unknown { near: None, exhausted: false };
-        let n = self.dofs.len();
-        let within = |q: &[f64]| q.len() == n && q.iter().zip(&self.limits).all(|(v, (lo, hi))| *v >= *lo && *v <= *hi);
-        if *bound != self.bound || bound.dim() != n || !within(a) || !within(b) || margin.is_nan() || margin <= 0.0 {
-            return unknown;
-        }
-        SCRATCH.with(|cell| match cell.try_borrow_mut() {
-            Ok(mut buffers) => {
-                let (scratch, motion) = &mut *buffers;
-                self.advance(a, b, margin, max_steps, scratch, motion)
-            }
-            // Not reached (a certification does not certify another), but never a panic.
-            Err(_) => self.advance(a, b, margin, max_steps, &mut Scratch::default(), &mut Motion::default()),
-        })
+        self.staged(a, b, bound, margin, (max_steps, max_steps), None).unwrap_or(unknown)
+    }
+
+    /// Resumes the first stage's proof rather than restarting it: the steps of a proof do not
+    /// depend on its budget, so the answer is `certify`'s with `max_steps`.
+    fn certify_staged(
+        &self,
+        a: &[f64],
+        b: &[f64],
+        bound: &MotionBound,
+        margin: f64,
+        steps: (usize, usize),
+        proceed: &mut dyn FnMut() -> bool,
+    ) -> Option<Certificate> {
+        self.staged(a, b, bound, margin, steps, Some(proceed))
     }
 }
 
 impl SphereCertifier {
+    /// [`SegmentCertifier::certify_staged`] (without `proceed`: `certify` with the first
+    /// budget), after checking the input.
+    fn staged(
+        &self,
+        a: &[f64],
+        b: &[f64],
+        bound: &MotionBound,
+        margin: f64,
+        steps: (usize, usize),
+        proceed: Option<&mut dyn FnMut() -> bool>,
+    ) -> Option<Certificate> {
+        let n = self.dofs.len();
+        let within = |q: &[f64]| q.len() == n && q.iter().zip(&self.limits).all(|(v, (lo, hi))| *v >= *lo && *v <= *hi);
+        if *bound != self.bound || bound.dim() != n || !within(a) || !within(b) || margin.is_nan() || margin <= 0.0 {
+            return Some(Certificate::Unknown { near: None, exhausted: false });
+        }
+        SCRATCH.with(|cell| match cell.try_borrow_mut() {
+            Ok(mut buffers) => {
+                let (scratch, motion) = &mut *buffers;
+                self.advance(a, b, margin, steps, proceed, scratch, motion)
+            }
+            // Not reached (a certification does not certify another), but never a panic.
+            Err(_) => self.advance(a, b, margin, steps, proceed, &mut Scratch::default(), &mut Motion::default()),
+        })
+    }
+
     /// Conservative advancement along `a → b` (checked, within limits) with `scratch` and
-    /// `motion` as buffers: [`SegmentCertifier::certify`].
+    /// `motion` as buffers: [`SegmentCertifier::certify_staged`] with `steps`, going on after
+    /// the first budget only if `proceed` says so (`None`: stop there).
+    #[allow(clippy::too_many_arguments)]
     fn advance(
         &self,
         a: &[f64],
         b: &[f64],
         margin: f64,
-        max_steps: usize,
+        (first_steps, max_steps): (usize, usize),
+        mut proceed: Option<&mut dyn FnMut() -> bool>,
         scratch: &mut Scratch,
         motion: &mut Motion,
-    ) -> Certificate {
+    ) -> Option<Certificate> {
         self.reset(scratch);
         motion.dq.clear();
         motion.dq.extend(a.iter().zip(b).map(|(x, y)| y - x));
@@ -364,27 +406,35 @@ impl SphereCertifier {
         let mut q = std::mem::take(&mut scratch.q);
         q.clear();
         q.extend_from_slice(a);
-        let (mut t, mut last) = (0.0f64, 0.0f64);
-        let mut certificate = Certificate::Unknown { near: Some(t), exhausted: true };
-        for step in 0..max_steps {
+        let (mut t, mut last, mut step, mut budget) = (0.0f64, 0.0f64, 0, first_steps);
+        let certificate = loop {
+            if step == budget {
+                // The budget ran out while the proof was still advancing.
+                match proceed.take().map(|go| go()) {
+                    Some(true) => {
+                        budget = max_steps.max(first_steps);
+                        continue;
+                    }
+                    Some(false) => break None,
+                    None => break Some(Certificate::Unknown { near: Some(t), exhausted: true }),
+                }
+            }
             self.set_state(&q, scratch);
             // What expires within the last advance from here is evaluated now.
             let until = t + (t - last);
-            if self.step(scratch, motion, margin, t, until, step).is_err() {
-                certificate = Certificate::Unknown { near: Some(t), exhausted: false };
-                break;
-            }
+            let Ok(earliest) = self.step(scratch, motion, margin, t, until, step) else {
+                break Some(Certificate::Unknown { near: Some(t), exhausted: false });
+            };
             last = t;
-            t = scratch.earliest_horizon();
+            t = earliest;
             if t >= 1.0 {
-                certificate = Certificate::Free;
-                break;
+                break Some(Certificate::Free);
             }
             for ((x, &a0), &dv) in q.iter_mut().zip(a).zip(&motion.dq) {
                 *x = a0 + t * dv;
             }
-            certificate = Certificate::Unknown { near: Some(t), exhausted: true };
-        }
+            step += 1;
+        };
         scratch.q = q;
         certificate
     }

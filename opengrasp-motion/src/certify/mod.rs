@@ -65,6 +65,31 @@ pub trait SegmentCertifier {
     /// `bound` is the motion bound of the exact continuous validator. A certifier may give up
     /// after `max_steps` advancement steps.
     fn certify(&self, a: &[f64], b: &[f64], bound: &MotionBound, margin: f64, max_steps: usize) -> Certificate;
+
+    /// [`SegmentCertifier::certify`] in two stages of `(first_steps, max_steps)`: if the first
+    /// `first_steps` steps run out while the proof is still advancing, `proceed` decides
+    /// whether it goes on (`None` if it says no); if it does, the answer is that of `certify`
+    /// with `max_steps` steps (at least `first_steps`). Without exhaustion, the answer is that
+    /// of `certify` with `first_steps`.
+    ///
+    /// The default runs `certify` twice; a certifier may resume the first stage's proof
+    /// instead of restarting it, with the same answer.
+    fn certify_staged(
+        &self,
+        a: &[f64],
+        b: &[f64],
+        bound: &MotionBound,
+        margin: f64,
+        (first_steps, max_steps): (usize, usize),
+        proceed: &mut dyn FnMut() -> bool,
+    ) -> Option<Certificate> {
+        match self.certify(a, b, bound, margin, first_steps) {
+            Certificate::Unknown { exhausted: true, .. } => {
+                proceed().then(|| self.certify(a, b, bound, margin, max_steps.max(first_steps)))
+            }
+            c => Some(c),
+        }
+    }
 }
 
 /// The answer of a [`SegmentCertifier`].
