@@ -191,9 +191,12 @@ pub enum JointTarget {
 /// with torque `stiffness |position − q|`, capped at its motor's force limit, whatever its
 /// actuator's target. Unlike a position target (per configuration dof) it is per joint, so
 /// coupled joints get rest positions of their own, and its stiffness is absolute (N·m/rad)
-/// rather than scaled by the links' inertia. Dynamic backends apply it through the joint's motor
-/// (rapier: the position motor towards `position` with its force capped at the spring's torque
-/// each substep), so a joint that is not blocked approaches `position` without overshoot.
+/// rather than scaled by the links' inertia. Dynamic backends apply it as an explicit joint
+/// torque each step (rapier: as [`JointTarget::Effort`], equal and opposite torques on the
+/// joint's two bodies tapered off between one and two times the velocity limit, so a stalled
+/// joint presses with exactly the spring's torque however many joints its finger has), with
+/// the viscous damping `stiffness · h` for the substep `h` that keeps it stable (rapier:
+/// implicit, in the multibody's mass matrix).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct JointSpring {
     /// Rest position (rad or m).

@@ -76,9 +76,11 @@ pub struct PhysicsCheckOptions {
     /// pressing with the balanced torque `τᵢ` there, and more or less as the object moves towards
     /// or away from the finger (a stable equilibrium instead of a neutral one). Default: `None`.
     /// Measured (`physics_sweep per_cell=5 balanced=1 compliance=0.05`, 30 Hz contacts): Barrett
-    /// 19/79 held, ARMAR-III 0/80 (position control: 26/79, 0/80); with `resolve=1` the same,
-    /// and 9/79 at 1 kHz contacts. The springs resist squeezing, not the sideways escape of
-    /// fingertip grasps (the traced ARMAR-III salt-can grasp loses every contact within 40 ms).
+    /// 33/79 held (2 diverged), ARMAR-III 11/80 with the explicit-torque springs, and the same
+    /// with `resolve=1` (default position control 42/79, 11/80); before them 19/79, 0/80
+    /// (position control then: 26/79, 0/80), with `resolve=1` the same, and 9/79 at 1 kHz
+    /// contacts. The springs resist squeezing, not the sideways escape of fingertip grasps (the
+    /// traced ARMAR-III salt-can grasp loses every contact within 40 ms).
     pub grip_compliance: Option<f64>,
     /// `Some(θ)`: the fingers close as under a position controller with a physical gain: every
     /// joint of a closing actuator is a spring ([`super::grip::stiffen_grip`] of
@@ -86,23 +88,17 @@ pub struct PhysicsCheckOptions {
     /// evaluated (touching) configuration, so it presses with its full effort share there, less
     /// as it closes further and more (up to the share) as the object pushes it back: the
     /// object, free with `fixture` off, centres itself between fingers whose forces balance.
-    /// Excludes `effort` and `balanced`. Default: `None`: measured (`physics_sweep per_cell=5
-    /// spring=θ …`, held/checked Barrett, ARMAR-III) θ = 0.1 without fixture 29/79, 0/80; 0.2
-    /// without fixture at 1 kHz contacts 29/79, 0/80 (2 diverged); 0.4 with the fixture 34/79,
-    /// 4/80 (1 diverged) — against 42/79, 11/80 for the default position control. The grips
-    /// that fail are out of balance by many times the weight (the fixture holds a median 11
-    /// weights on the ARMAR-III grasps), which springs do not fix (not traced further: a
-    /// spring yields as the object pushes it, and at the 30 Hz contacts the fingers sink in by
-    /// a sizeable part of a small θ). Traced on a two-phalanx pinch (1 kHz contacts, 0.2 s):
-    /// joint springs in a finger of two joints do not press as on the one-joint calibration
-    /// finger — a distal joint (0.5 N·m, 25 mm lever) pushed its fingertip with 0.45 N, where
-    /// an [`opengrasp_core::physics::JointTarget::Effort`] target gives τ/L = 20.0 N; a
-    /// proximal joint held by a spring (2.5 N·m cap at 1 mrad) opened 0.21 rad under about
-    /// 0.4 N·m — so on the benchmark hands' multi-joint fingers the springs are weaker than
-    /// modelled. For the same reason a TorqueSwitch breakaway (proximal joints locked by such
-    /// springs, distal joints pressing with stall torques) did not hold the pinch as calibrated
-    /// and held fewer benchmark grasps (`physics_sweep per_cell=5`: Barrett 38/79 with 1
-    /// diverged, ARMAR-III 0/80; with distal springs instead of stall torques 19/79 and 0/80).
+    /// Excludes `effort` and `balanced`. Default: `None`. Measured (`physics_sweep per_cell=5
+    /// spring=θ …`, held/checked Barrett, ARMAR-III; default position control 42/79, 11/80)
+    /// since the rapier backend applies springs as explicit joint torques (before, a spring in
+    /// a two-joint finger pressed with ≈ 3 % of its cap: a distal spring of 0.5 N·m on a 25 mm
+    /// lever pushed 0.59 N instead of 20 N, `opengrasp-core/tests/spring_press.rs`): θ = 0.4
+    /// 43/79, 12/80 (34/79 with 1 diverged, 4/80 before the fix); 0.2 39/79 (1 diverged),
+    /// 14/80; 0.6 40/79, 10/80; 0.4 without fixture 47/79, 10/80 — none raises both hands
+    /// clearly. A TorqueSwitch breakaway on top (each finger's inner closing joints locked by
+    /// springs of 10 × their share at 1 mrad, the outermost pressing) held 24/79, 1/80. The
+    /// grips that fail are out of balance by many times the weight (the fixture holds a median
+    /// 11 weights on the ARMAR-III grasps): equal effort shares on every motor do not balance.
     pub spring: Option<f64>,
     /// With `balanced`: at the end of the squeeze the balanced grip is solved again on the
     /// simulator's contacts and joint positions ([`super::grip_sim::after_squeeze`]), so the

@@ -375,14 +375,17 @@ impl PhysicsEngine for RapierBackend {
         }
         let axis = if e.prismatic { JointAxis::LinX } else { JointAxis::AngX };
         let Some((mb, link_id)) = self.multibody_joints.get_mut(e.handle) else { return Err(bad) };
-        let Some(link) = mb.link_mut(link_id) else { return Err(bad) };
+        let Some(link) = mb.link(link_id) else { return Err(bad) };
         // The motor's own force limit: kept while a spring caps it, restored without one.
         let limit = match e.spring {
             Some((_, cap)) => cap,
             None => link.joint.data.motors[axis as usize].max_force,
         };
         if spring.is_none() {
-            link.joint.data.set_motor_max_force(axis, limit);
+            robots::set_damping(mb, link_id, None);
+            if let Some(link) = mb.link_mut(link_id) {
+                link.joint.data.set_motor_max_force(axis, limit);
+            }
         }
         if let Some(Some(entry)) = self.robots[robot.0].joints.get_mut(joint.0) {
             entry.spring = spring.map(|s| (s, limit));

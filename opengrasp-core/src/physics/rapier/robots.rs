@@ -3,11 +3,11 @@
 use std::f64::consts::PI;
 use std::sync::Arc;
 
-use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
+use nalgebra::{DVector, Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use rapier3d_f64::parry::mass_properties::MassProperties;
 use rapier3d_f64::prelude::{
-    ActiveHooks, ColliderBuilder, FixedJointBuilder, GenericJointBuilder, JointAxesMask, JointAxis, RigidBodyBuilder,
-    RigidBodyHandle,
+    ActiveHooks, ColliderBuilder, FixedJointBuilder, GenericJointBuilder, JointAxesMask, JointAxis, Multibody,
+    RigidBodyBuilder, RigidBodyHandle,
 };
 
 use super::{advance_reference, velocity_limit, ContactBody, JointTarget};
@@ -292,24 +292,24 @@ impl RapierBackend {
                 let d = r.dofs[dof];
                 let axis = if e.prismatic { JointAxis::LinX } else { JointAxis::AngX };
                 let Some((mb, link_id)) = self.multibody_joints.get_mut(e.handle) else { continue };
-                if let Some((s, limit)) = e.spring {
-                    // rapier's multibody motors are stiff velocity constraints: this one tracks
-                    // a slow approach to the rest position with at most the spring's torque, so
-                    // a stalled joint presses with exactly that torque, and one moving towards
-                    // the rest position faster than the approach is braked (the damping).
-                    let Some(link) = mb.link_mut(link_id) else { continue };
+                let speed = mb.link(link_id).map_or(0.0, |l| mb.joint_velocity(l).get(0).copied().unwrap_or(0.0));
+                let vmax = d.vmax * factor.abs();
+                let torque = if let Some((s, limit)) = e.spring {
+                    // An explicit joint torque (rapier's multibody motors, solved without warm
+                    // start in one iteration per substep, fall far short of their force limit
+                    // in a multi-joint finger), with the damping that keeps it stable.
+                    set_damping(mb, link_id, Some(s.stiffness * h));
+                    let Some(link) = mb.link(link_id) else { continue };
                     let q = joint_value(e, &link.joint().body_to_parent(), s.position);
-                    let torque = (s.stiffness * (s.position - q).abs()).min(limit);
-                    link.joint.data.set_motor(axis, s.position, 0.0, SPRING_APPROACH_RATE, 1.0);
-                    link.joint.data.set_motor_max_force(axis, torque);
-                    continue;
-                }
-                if let JointTarget::Effort(effort) = d.target {
-                    let speed = mb.link(link_id).map_or(0.0, |l| mb.joint_velocity(l).get(0).copied().unwrap_or(0.0));
+                    Some((s.stiffness * (s.position - q)).clamp(-limit, limit))
+                } else if let JointTarget::Effort(effort) = d.target {
+                    Some(joint_effort(&r.robot, j, effort, coupled))
+                } else {
+                    None
+                };
+                if let Some(torque) = torque {
                     let Some(link) = mb.link_mut(link_id) else { continue };
                     link.joint.data.motor_axes.remove(axis.into());
-                    let torque = joint_effort(&r.robot, j, effort, coupled);
-                    let vmax = d.vmax * factor.abs();
                     // Full torque up to the velocity limit, none beyond twice it.
                     let taper = if vmax > 0.0 { (2.0 - speed * torque.signum() / vmax).clamp(0.0, 1.0) } else { 1.0 };
                     apply_joint_effort(&mut self.bodies, e, torque * taper);
@@ -359,10 +359,22 @@ impl RapierBackend {
     }
 }
 
-/// Rate (s⁻¹) at which a joint spring's motor lets its joint approach the rest position: a
-/// stalled joint's velocity is below it, so the spring presses with its full torque; a joint
-/// moving faster is braked.
-const SPRING_APPROACH_RATE: f64 = 4.0;
+/// Sets the viscous damping of the dof of link `link_id` of `mb` to rapier's default (0.1
+/// N·m·s/rad for a revolute joint, none for a prismatic one) plus `extra`. A spring of stiffness
+/// `k` whose torque is applied once per substep `h` gets `extra = k h`: rapier's damping is
+/// implicit (in the multibody's mass matrix), so the spring's step then contracts whatever the
+/// link's inertia (`k h² < 2 (I + c h)`; without inertia `q ← q + h k (rest − q) / c`).
+pub(super) fn set_damping(mb: &mut Multibody, link_id: usize, extra: Option<f64>) {
+    let Some(link) = mb.link(link_id) else { return };
+    let ndofs = link.joint().ndofs();
+    let start: usize = mb.links().take(link_id).map(|l| l.joint().ndofs()).sum();
+    let mut damping = DVector::zeros(ndofs);
+    link.joint().default_damping(&mut damping.rows_mut(0, ndofs));
+    if let Some(c) = extra {
+        damping.add_scalar_mut(c);
+    }
+    mb.damping_mut().rows_mut(start, ndofs).copy_from(&damping);
+}
 
 /// Joint `e`'s position (m, or rad unwrapped to the turn nearest `near`) from its multibody
 /// link's `body_to_parent` transform.
