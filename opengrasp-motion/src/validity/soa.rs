@@ -143,8 +143,12 @@ pub(super) struct Centres {
     link: Vec<[f64; 3]>,
     /// Cluster bounding-sphere centres (placed with their link's spheres).
     cluster: Vec<[f64; 3]>,
-    /// Whether each link's spheres are placed yet (they are placed when first needed).
+    /// Whether each link's cluster centres are placed yet, and each cluster's spheres (both
+    /// are placed when first needed: most clusters are culled by their bounding sphere).
     placed: Vec<bool>,
+    filled: Vec<bool>,
+    /// Whether each link's bounding-sphere centre is placed yet.
+    linked: Vec<bool>,
 }
 
 /// Per-thread buffers of the sphere model's state checks.
@@ -256,33 +260,67 @@ impl SphereSoa {
     /// Starts a state: the links' bounding-sphere centres from the world poses of the chain
     /// frames; the spheres themselves are placed per link when a test first needs them.
     pub fn begin(&self, frames: &[Mat34], out: &mut Centres) {
+        self.begin_lazy(out);
+        out.linked.fill(true);
+        for ((&f, lc), at) in self.frame.iter().zip(&self.link_centre).zip(&mut out.link) {
+            *at = transform(&frames[f], lc.x, lc.y, lc.z);
+        }
+    }
+
+    /// Starts a state placing nothing yet, not even the links' bounding-sphere centres
+    /// (placed when a test first needs them): for a cover whose tests are only
+    /// [`SphereSoa::link_gap`] and [`SphereSoa::pair_gap`] (and their `_clear` forms), not
+    /// [`SphereSoa::link_near`] or [`SphereSoa::link_far`].
+    pub fn begin_lazy(&self, out: &mut Centres) {
         let n = self.x.len();
         out.x.resize(n, 0.0);
         out.y.resize(n, 0.0);
         out.z.resize(n, 0.0);
-        out.link.clear();
+        out.link.resize(self.ranges.len(), [0.0; 3]);
         out.cluster.resize(self.clusters.len(), [0.0; 3]);
-        out.placed.clear();
-        out.placed.resize(self.ranges.len(), false);
-        for (&f, lc) in self.frame.iter().zip(&self.link_centre) {
-            out.link.push(transform(&frames[f], lc.x, lc.y, lc.z));
+        for flags in [&mut out.placed, &mut out.linked] {
+            flags.clear();
+            flags.resize(self.ranges.len(), false);
         }
+        out.filled.clear();
+        out.filled.resize(self.clusters.len(), false);
     }
 
-    /// Places link `k`'s spheres if not yet done.
+    /// Link `k`'s bounding-sphere centre, placed if not yet done.
+    #[inline(always)]
+    fn link_at(&self, frames: &[Mat34], out: &mut Centres, k: usize) -> [f64; 3] {
+        if !out.linked[k] {
+            out.linked[k] = true;
+            let lc = &self.link_centre[k];
+            out.link[k] = transform(&frames[self.frame[k]], lc.x, lc.y, lc.z);
+        }
+        out.link[k]
+    }
+
+    /// Places the bounding-sphere centres of link `k`'s clusters if not yet done.
     #[inline]
     fn ensure(&self, frames: &[Mat34], out: &mut Centres, k: usize) {
         if out.placed[k] {
             return;
         }
         out.placed[k] = true;
-        let (s, e) = self.ranges[k];
         let m = &frames[self.frame[k]];
         let (cs, ce) = self.link_clusters[k];
         for j in cs..ce {
             let c = &self.cluster_centre[j];
             out.cluster[j] = transform(m, c.x, c.y, c.z);
         }
+    }
+
+    /// Places the spheres of cluster `j` (of link `k`) if not yet done.
+    #[inline]
+    fn fill(&self, frames: &[Mat34], out: &mut Centres, k: usize, j: usize) {
+        if out.filled[j] {
+            return;
+        }
+        out.filled[j] = true;
+        let (s, e) = self.clusters[j];
+        let m = &frames[self.frame[k]];
         let (xs, ys, zs) = (&self.x[s..e], &self.y[s..e], &self.z[s..e]);
         let (ox, oy, oz) = (&mut out.x[s..e], &mut out.y[s..e], &mut out.z[s..e]);
         for i in 0..xs.len() {
@@ -338,6 +376,7 @@ impl SphereSoa {
     /// [`SphereSoa::begin`]).
     #[inline]
     pub fn link_near(&self, o: usize, k: usize, c: &Centres) -> bool {
+        debug_assert!(c.linked[k], "link_near after begin_lazy");
         let o = &self.obstacles[o];
         let [lx, ly, lz] = c.link[k];
         let d2 = (lx - o.t[0]).powi(2) + (ly - o.t[1]).powi(2) + (lz - o.t[2]).powi(2);
@@ -365,6 +404,7 @@ impl SphereSoa {
                 lb = lb.min(d - self.cluster_radius[j]);
                 continue;
             }
+            self.fill(frames, c, k, j);
             let (s, e) = self.clusters[j];
             let g = o.min_gap(&c.x[s..e], &c.y[s..e], &c.z[s..e], &self.r[s..e]);
             if g <= 0.0 {
@@ -378,7 +418,9 @@ impl SphereSoa {
     /// [`SphereSoa::link_near`] with a lower bound: `None` if link `k`'s bounding sphere may
     /// touch obstacle `o`, else `Some(g)` with `0 ≤ g ≤` the distance of every sphere of the
     /// link to the obstacle (after [`SphereSoa::begin`]).
+    #[inline(always)]
     pub fn link_far(&self, o: usize, k: usize, c: &Centres) -> Option<f64> {
+        debug_assert!(c.linked[k], "link_far after begin_lazy");
         let o = &self.obstacles[o];
         let [lx, ly, lz] = c.link[k];
         let d2 = (lx - o.t[0]).powi(2) + (ly - o.t[1]).powi(2) + (lz - o.t[2]).powi(2);
@@ -424,7 +466,7 @@ impl SphereSoa {
     /// one of link `b`, else `Some(g)` with `0 ≤ g ≤` every sphere gap between them (culled
     /// links and clusters give the gap of their bounding spheres).
     pub fn pair_gap(&self, frames: &[Mat34], c: &mut Centres, a: usize, b: usize) -> Option<f64> {
-        let (ca, cb) = (c.link[a], c.link[b]);
+        let (ca, cb) = (self.link_at(frames, c, a), self.link_at(frames, c, b));
         let (ra, rb) = (self.link_radius[a], self.link_radius[b]);
         let g = gap(&ca, &cb, ra + rb);
         if g > 0.0 {
@@ -447,6 +489,8 @@ impl SphereSoa {
                     lb = lb.min(g);
                     continue;
                 }
+                self.fill(frames, c, a, ja);
+                self.fill(frames, c, b, jb);
                 let ((sa, ea), (sb, eb)) = (self.clusters[ja], self.clusters[jb]);
                 let (xs, ys, zs, rs) = (&c.x[sb..eb], &c.y[sb..eb], &c.z[sb..eb], &self.r[sb..eb]);
                 let n = xs.len().min(ys.len()).min(zs.len()).min(rs.len());

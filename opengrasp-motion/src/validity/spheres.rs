@@ -396,7 +396,7 @@ impl SphereWorld {
             let (frames, centres, rough) = (&s.frames, &mut s.centres, &mut s.coarse);
             let coarse = self.coarse.as_ref().map(|(_, soa)| soa);
             if let Some(coarse) = coarse {
-                coarse.begin(frames, rough);
+                coarse.begin_lazy(rough);
             }
             self.pairs.iter().filter(|p| rigid(p)).all(|&(a, b)| {
                 coarse.is_some_and(|coarse| coarse.pair_clear(frames, rough, a, b))
@@ -426,7 +426,7 @@ impl SphereWorld {
                     .enumerate()
                     .all(|(p, &(a, b))| self.table_gap(p, q).is_some() || self.soa.pair_clear(frames, fine, a, b));
         };
-        coarse.begin(frames, &mut s.coarse);
+        coarse.begin_lazy(&mut s.coarse);
         let rough = &mut s.coarse;
         for o in 0..self.obstacles.len() {
             for k in 0..self.links.len() {

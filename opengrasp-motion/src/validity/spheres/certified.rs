@@ -114,7 +114,7 @@ impl SphereWorld {
             self.chain.frames(q, &mut s.frames);
             self.soa.begin(&s.frames, &mut s.centres);
             if let Some((_, coarse)) = &self.coarse {
-                coarse.begin(&s.frames, &mut s.coarse);
+                coarse.begin_lazy(&mut s.coarse);
             }
         }
         self.test_gap(test, &s.frames, &mut s.centres, &mut s.coarse)
