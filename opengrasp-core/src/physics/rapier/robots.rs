@@ -3,7 +3,7 @@
 use std::f64::consts::PI;
 use std::sync::Arc;
 
-use nalgebra::{DVector, Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use rapier3d_f64::parry::mass_properties::MassProperties;
 use rapier3d_f64::prelude::{
     ActiveHooks, ColliderBuilder, FixedJointBuilder, GenericJointBuilder, JointAxesMask, JointAxis, Multibody,
@@ -364,16 +364,18 @@ impl RapierBackend {
 /// `k` whose torque is applied once per substep `h` gets `extra = k h`: rapier's damping is
 /// implicit (in the multibody's mass matrix), so the spring's step then contracts whatever the
 /// link's inertia (`k h² < 2 (I + c h)`; without inertia `q ← q + h k (rest − q) / c`).
+/// Called every substep for every spring joint, so it writes the multibody's damping in place
+/// (`default_damping` sets only the non-zero entries, hence the fill).
 pub(super) fn set_damping(mb: &mut Multibody, link_id: usize, extra: Option<f64>) {
-    let Some(link) = mb.link(link_id) else { return };
-    let ndofs = link.joint().ndofs();
+    let Some(joint) = mb.link(link_id).map(|link| *link.joint()) else { return };
+    let ndofs = joint.ndofs();
     let start: usize = mb.links().take(link_id).map(|l| l.joint().ndofs()).sum();
-    let mut damping = DVector::zeros(ndofs);
-    link.joint().default_damping(&mut damping.rows_mut(0, ndofs));
+    let mut damping = mb.damping_mut().rows_mut(start, ndofs);
+    damping.fill(0.0);
+    joint.default_damping(&mut damping);
     if let Some(c) = extra {
         damping.add_scalar_mut(c);
     }
-    mb.damping_mut().rows_mut(start, ndofs).copy_from(&damping);
 }
 
 /// Joint `e`'s position (m, or rad unwrapped to the turn nearest `near`) from its multibody
