@@ -317,6 +317,11 @@ fn scene1() -> (SceneInstance, Vec<(f64, f64)>) {
     (instance, limits)
 }
 
+/// A random state within `spread` of `centre` in every joint, clamped to `limits`.
+fn around(centre: &[f64], limits: &[(f64, f64)], spread: f64, rng: &mut ChaCha8Rng) -> Vec<f64> {
+    centre.iter().zip(limits).map(|(v, (lo, hi))| (v + rng.random_range(-spread..=spread)).clamp(*lo, *hi)).collect()
+}
+
 /// A certificate holds for every piece of its segment (post-processing accepts the pieces of
 /// certified segments without certifying them again): random pieces of certified kitchen
 /// segments pass every exact validator.
@@ -363,12 +368,7 @@ fn unknown_certificates_tell_exhausted_from_stuck() {
     let mut rng = ChaCha8Rng::seed_from_u64(11);
     let (mut exhausted, mut stuck) = (0, 0);
     for _ in 0..400 {
-        let a: Vec<f64> = instance
-            .start
-            .iter()
-            .zip(&limits)
-            .map(|(v, (lo, hi))| (v + rng.random_range(-1.2..=1.2)).clamp(*lo, *hi))
-            .collect();
+        let a = around(&instance.start, &limits, 1.2, &mut rng);
         let b: Vec<f64> = limits.iter().map(|(lo, hi)| rng.random_range(*lo..=*hi)).collect();
         if !checker.is_valid(&a) {
             continue;
@@ -452,14 +452,8 @@ fn staged_certificates_resume_to_the_whole_budget_answer() {
     let mut rng = ChaCha8Rng::seed_from_u64(13);
     let (mut resumed, mut resumed_free, mut resumed_stuck) = (0, 0, 0);
     for k in 0..120 {
-        let a: Vec<f64> = instance
-            .start
-            .iter()
-            .zip(&limits)
-            .map(|(v, (lo, hi))| (v + rng.random_range(-1.2..=1.2)).clamp(*lo, *hi))
-            .collect();
-        let b: Vec<f64> =
-            a.iter().zip(&limits).map(|(v, (lo, hi))| (v + rng.random_range(-0.6..=0.6)).clamp(*lo, *hi)).collect();
+        let a = around(&instance.start, &limits, 1.2, &mut rng);
+        let b = around(&a, &limits, 0.6, &mut rng);
         let first = if k % 2 == 0 { 5 } else { 20 };
         let (short, whole) =
             (certifier.certify(&a, &b, bound, margin, first), certifier.certify(&a, &b, bound, margin, 1000));
