@@ -1,18 +1,48 @@
 //! Arithmetic shared by the certified motion checks of the sphere model
 //! (`spheres/certified.rs`) and of the exact checker (`exact/certified.rs`): per test, its
-//! distance bound per step of a motion, the states a passing test's gap certifies, and the
+//! distance bound per step of a motion ([`StepWeights`]), the states a passing test's gap certifies, and the
 //! bit sets that record them.
 
-/// Per test, the reciprocal of its bound per step of the straight motion `a → b` in `n` steps
-/// (∞ if the test cannot change), the bound inflated against rounding, into `out`: test `t`'s
-/// distance changes by at most `Σⱼ |Δqⱼ| wⱼ` with `w` row `t` of `weights` (`dim` per test).
-#[inline(always)]
-pub(super) fn per_step_into(weights: &[f64], dim: usize, a: &[f64], b: &[f64], n: usize, out: &mut Vec<f64>) {
-    out.clear();
-    out.extend(weights.chunks_exact(dim.max(1)).map(|w| {
-        let d: f64 = w.iter().zip(a).zip(b).map(|((w, x), y)| w * (y - x).abs()).sum();
-        n.max(1) as f64 / (d * (1.0 + 1e-9))
-    }));
+/// Per test, one weight per group value: the test's distance changes by at most
+/// `Σⱼ |Δqⱼ| wⱼ` over a straight motion by `Δq`. Stored joint by joint, so that a motion's
+/// bounds are computed for all tests at once (a loop over the tests per joint, which the
+/// compiler vectorises).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(super) struct StepWeights {
+    tests: usize,
+    /// `by_joint[j * tests + t]`: the weight of group value `j` in test `t`.
+    by_joint: Vec<f64>,
+}
+
+impl StepWeights {
+    /// The weights given test by test: `rows[t * dim + j]`.
+    pub(super) fn from_rows(rows: &[f64], dim: usize) -> Self {
+        let tests = rows.len().checked_div(dim).unwrap_or(0);
+        let by_joint = (0..dim).flat_map(|j| (0..tests).map(move |t| rows[t * dim + j])).collect();
+        Self { tests, by_joint }
+    }
+
+    /// Per test, the reciprocal of its bound per step of the straight motion `a → b` in `n`
+    /// steps (∞ if the test cannot change), the bound inflated against rounding, into `out`.
+    /// Each test's sum runs over the joints in order, so the values are those of summing its
+    /// row.
+    #[inline(always)]
+    pub(super) fn per_step_into(&self, a: &[f64], b: &[f64], n: usize, out: &mut Vec<f64>) {
+        out.clear();
+        out.resize(self.tests, 0.0);
+        if self.tests > 0 {
+            for ((x, y), column) in a.iter().zip(b).zip(self.by_joint.chunks_exact(self.tests)) {
+                let dq = (y - x).abs();
+                for (d, w) in out.iter_mut().zip(column) {
+                    *d += w * dq;
+                }
+            }
+        }
+        let steps = n.max(1) as f64;
+        for d in out.iter_mut() {
+            *d = steps / (*d * (1.0 + 1e-9));
+        }
+    }
 }
 
 /// The states of a motion of `n` steps that a test passing with `gap` at state `i` certifies:
@@ -54,8 +84,45 @@ pub(super) fn set_bits(bits: &mut [u64], stride: usize, (lo, hi): (usize, usize)
 
 #[cfg(test)]
 mod tests {
-    use super::{reach, set_bits, steps_within};
+    use super::{reach, set_bits, steps_within, StepWeights};
     use proptest::prelude::*;
+
+    /// The row-by-row bounds `StepWeights::per_step_into` replaces.
+    fn per_step_by_rows(rows: &[f64], dim: usize, a: &[f64], b: &[f64], n: usize) -> Vec<f64> {
+        rows.chunks_exact(dim)
+            .map(|w| {
+                let d: f64 = w.iter().zip(a).zip(b).map(|((w, x), y)| w * (y - x).abs()).sum();
+                n.max(1) as f64 / (d * (1.0 + 1e-9))
+            })
+            .collect()
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2_000))]
+        /// Joint by joint, the bounds are bit for bit those of summing each test's row (zero
+        /// weights and motions along a few joints, whose bounds are ∞, included).
+        #[test]
+        fn per_step_by_joint_equals_per_step_by_rows(
+            dim in 1usize..9,
+            tests in 0usize..40,
+            n in 0usize..300,
+            seed in any::<u64>(),
+        ) {
+            use rand::{Rng, SeedableRng};
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+            let mut value = |zero: f64| if rng.random::<f64>() < zero { 0.0 } else { rng.random_range(0.0..3.0) };
+            let rows: Vec<f64> = (0..tests * dim).map(|_| value(0.3)).collect();
+            let a: Vec<f64> = (0..dim).map(|_| value(0.0) - 1.5).collect();
+            let b: Vec<f64> = a.iter().map(|&x| x + value(0.4) - 1.5).collect();
+            let mut out = vec![7.0];
+            StepWeights::from_rows(&rows, dim).per_step_into(&a, &b, n, &mut out);
+            let expected = per_step_by_rows(&rows, dim, &a, &b, n);
+            prop_assert_eq!(out.len(), expected.len());
+            for (x, y) in out.iter().zip(&expected) {
+                prop_assert_eq!(x.to_bits(), y.to_bits());
+            }
+        }
+    }
 
     /// The saturating conversion `steps_within` replaces.
     fn saturating(x: f64, n: usize) -> usize {

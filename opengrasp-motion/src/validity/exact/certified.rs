@@ -13,7 +13,7 @@ use opengrasp_core::collision::{CollisionWorld, GapTest};
 use opengrasp_core::model::{JointGroup, LinkId, Robot};
 
 use crate::validate::{coarse_to_fine_into, segment_subdivisions, subdivision_into};
-use crate::validity::steps::{per_step_into, reach, set_bits};
+use crate::validity::steps::{reach, set_bits, StepWeights};
 use crate::validity::MotionBound;
 
 /// Absolute slack (m) taken off every gap: covers the rounding of the kinematics, of the
@@ -29,9 +29,7 @@ pub(super) const CAP: f64 = 0.5;
 #[derive(Clone, Debug, PartialEq)]
 pub(super) struct ExactCertificates {
     pub(super) tests: Vec<GapTest>,
-    /// `tests.len() × dim`, row-major.
-    weights: Vec<f64>,
-    dim: usize,
+    weights: StepWeights,
 }
 
 impl ExactCertificates {
@@ -77,7 +75,7 @@ impl ExactCertificates {
                 }
             }
         }
-        Some(Self { tests, weights, dim })
+        Some(Self { tests, weights: StepWeights::from_rows(&weights, dim) })
     }
 
     /// Number of tests (the length of a state's certificate).
@@ -102,7 +100,7 @@ impl ExactCertificates {
         let n = segment_subdivisions(a, b, step);
         let tests = self.len();
         let mut per_step = Vec::with_capacity(tests);
-        per_step_into(&self.weights, self.dim, a, b, n, &mut per_step);
+        self.weights.per_step_into(a, b, n, &mut per_step);
         let words = n / 64 + 1;
         // Per test (row of `words`), a bit per state index: certified.
         let mut certified = vec![0u64; tests * words];

@@ -10,11 +10,11 @@
 //! whose tests are all certified is not computed at all. The verdict and the one-by-one count
 //! are those of checking every state in the default order.
 
-use super::{SphereWorld, StateValidityChecker};
+use super::SphereWorld;
 use crate::validate::{coarse_to_fine_into, interpolate_into, segment_subdivisions};
 use crate::validity::chain::Mat34;
 use crate::validity::soa::{Centres, Scratch};
-use crate::validity::steps::{per_step_into, reach, set_bits};
+use crate::validity::steps::{reach, set_bits, StepWeights};
 use crate::validity::MotionBound;
 
 /// Absolute slack (m) taken off every certified gap: covers the rounding of the kinematics
@@ -36,8 +36,8 @@ pub(super) struct Certificates {
     /// The tests, as [`SphereWorld::check_state`] runs them (obstacles, then link pairs).
     tests: Vec<Test>,
     /// Per test one weight per group value: the test's distance changes by at most
-    /// `Σⱼ |Δqⱼ| wⱼ` over a straight motion by `Δq` (`tests.len() × dim`).
-    weights: Vec<f64>,
+    /// `Σⱼ |Δqⱼ| wⱼ` over a straight motion by `Δq`.
+    weights: StepWeights,
 }
 
 impl SphereWorld {
@@ -54,15 +54,15 @@ impl SphereWorld {
         }
         let bound = MotionBound::with_extents(&self.robot, &self.group, &self.links, &extents)
             .unwrap_or_else(|_| self.bound.clone());
-        let mut cert = Certificates::default();
+        let (mut tests, mut weights) = (Vec::new(), Vec::new());
         for o in 0..self.obstacles.len() {
             for k in (0..self.links.len()).filter(|&k| !self.soa.is_static(k)) {
-                cert.tests.push(Test::Obstacle { o, k });
-                cert.weights.extend((0..dim).map(|j| bound.radius(k, j)));
+                tests.push(Test::Obstacle { o, k });
+                weights.extend((0..dim).map(|j| bound.radius(k, j)));
             }
         }
         for (p, &(a, b)) in self.moving_pairs.iter().enumerate() {
-            cert.tests.push(Test::Pair { a, b, p });
+            tests.push(Test::Pair { a, b, p });
             let (la, lb) = (
                 self.chain.lineage(self.chain.link(self.links[a]).0),
                 self.chain.lineage(self.chain.link(self.links[b]).0),
@@ -71,13 +71,13 @@ impl SphereWorld {
             let own = |mine: &[(usize, usize)], other: &[(usize, usize)], j: usize| {
                 mine.iter().any(|&(f, d)| d == j && !other.iter().any(|&(g, _)| g == f))
             };
-            cert.weights.extend((0..dim).map(|j| {
+            weights.extend((0..dim).map(|j| {
                 let wa = if own(&la, &lb, j) { bound.radius(a, j) } else { 0.0 };
                 let wb = if own(&lb, &la, j) { bound.radius(b, j) } else { 0.0 };
                 wa + wb
             }));
         }
-        cert
+        Certificates { tests, weights: StepWeights::from_rows(&weights, dim) }
     }
 
     /// Runs `test` on the placed state (`frames`, fine and coarse centres begun): `None` if
@@ -172,9 +172,8 @@ impl SphereWorld {
         coarse_to_fine_into(n, &mut order);
         // Per test, the reciprocal of its bound per step (∞ if it cannot change), the bound
         // inflated against rounding.
-        let dim = self.dim();
         let cert = &self.cert;
-        per_step_into(&cert.weights, dim, a, b, n, &mut s.per_step);
+        cert.weights.per_step_into(a, b, n, &mut s.per_step);
         // Per state word and test, a bit per state index: certified (bit 0, the start, is
         // never checked); `all`, per word, the states every test is certified at.
         let (tests, words) = (cert.tests.len(), n / 64 + 1);
