@@ -33,7 +33,9 @@ mod static_hold;
 use std::sync::Arc;
 
 use nalgebra::{Isometry3, Point3, Translation3};
-use opengrasp_core::collision::{CollisionOptions, CollisionWorld, Contact as CoreContact, MeshRepresentation};
+use opengrasp_core::collision::{
+    CollisionOptions, CollisionWorld, Contact as CoreContact, MeshRepresentation, NearestTriangles,
+};
 use opengrasp_core::hand::Hand;
 use opengrasp_core::model::{Shape, TriangleMesh};
 use opengrasp_core::scene::{ObjectId, RobotId, Scene, SceneObject};
@@ -313,6 +315,9 @@ impl GraspEvaluator {
         // then advance by the exact distance until touching.
         let mut s = t.translation.vector.norm() + self.object_radius + self.hand_radius + 0.01;
         let mut touched = false;
+        // Warm starts of the exact distances' mesh searches along the approach (the same
+        // distances, fewer triangle tests).
+        let mut hints = NearestTriangles::new();
         for _ in 0..o.max_approach_steps {
             let pose = at(s);
             self.place(&pose, &rfp, Worlds::Hull)?;
@@ -323,7 +328,7 @@ impl GraspEvaluator {
             let mut d = self.hull_world.min_distance(self.robot, &q_open)?;
             if d <= HULL_SWITCH_DISTANCE && !self.convex {
                 self.place(&pose, &rfp, Worlds::Exact)?;
-                d = self.world.min_distance(self.robot, &q_open)?;
+                d = self.world.min_distance_hinted(self.robot, &q_open, &mut hints)?;
             }
             if d <= o.approach_tolerance {
                 touched = true;

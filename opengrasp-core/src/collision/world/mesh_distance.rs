@@ -24,6 +24,8 @@ use parry3d_f64::partitioning::BvhNode;
 use parry3d_f64::query::{Contact, DefaultQueryDispatcher, QueryDispatcher};
 use parry3d_f64::shape::{Shape as ParryShape, TriMesh, Triangle};
 
+use super::bounded::{triangle_distance_within, SupportShape};
+
 /// A triangle is skipped only if its lower bound exceeds the threshold by more than this (m):
 /// far above the rounding of the bound and of GJK's distance (≈ 1e-16 m at grasp scales).
 pub(super) const SKIP_MARGIN: f64 = 1e-10;
@@ -191,10 +193,16 @@ fn walk(
     let msum_shift = -ls_aabb2.center().coords;
     let msum_margin = ls_aabb2.half_extents();
     let query = |tri: &Triangle| DefaultQueryDispatcher.distance(pose12, tri, shape).ok();
+    // The triangle queries stop once GJK proves a triangle farther than the best so far
+    // (see `super::bounded`): parry's search would not take it either.
+    let convex = SupportShape::against_triangle(shape);
     let start = hint
         .as_deref()
         .filter(|&&h| (h as usize) < mesh.num_triangles())
-        .and_then(|&h| query(&mesh.triangle(h)))
+        .and_then(|&h| {
+            let tri = mesh.triangle(h);
+            convex.as_ref().map_or_else(|| query(&tri), |g| triangle_distance_within(pose12, &tri, g, f64::INFINITY))
+        })
         .map_or(f64::MAX, |d| d + WARM_MARGIN);
     let best = mesh.bvh().find_best(
         start,
@@ -209,7 +217,12 @@ fn walk(
             if threshold < f64::MAX && bounds.exceeds(&tri, threshold) {
                 return None;
             }
-            query(&tri)
+            // Stopped beyond the best only (not the caller's bound): a triangle between
+            // the two still lowers the best, so the boxes pruned are parry's.
+            match &convex {
+                Some(g) => triangle_distance_within(pose12, &tri, g, best),
+                None => query(&tri),
+            }
         },
     );
     if let (Some(h), Some((part, _))) = (hint, best) {

@@ -1,6 +1,7 @@
 //! The collision world: construction and synchronisation with a scene ([`queries`] answers
 //! the queries, [`narrow`] tests shape pairs).
 
+mod bounded;
 mod distances;
 mod gaps;
 mod mesh_distance;

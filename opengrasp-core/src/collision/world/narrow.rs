@@ -6,6 +6,8 @@ use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::query;
 use parry3d_f64::shape::Shape as ParryShape;
 
+use super::bounded::{distance_within_pos12, support_map_distance_within, Bounded, BEYOND_MARGIN};
+
 /// Euclidean distance between two AABBs (0 when they overlap): a lower bound of the distance
 /// between anything they contain.
 pub(super) fn aabb_distance(a: &Aabb, b: &Aabb) -> f64 {
@@ -52,22 +54,42 @@ pub(super) fn intersects_placed(a: Placed<'_>, b: Placed<'_>) -> bool {
 /// either shape has a hull, the hulls' distance (a lower bound) is computed first and the
 /// exact query is skipped if it already reaches `bound`. The value returned is always the
 /// exact distance. With an infinite `bound` nothing can be ruled out, so the hulls are not
-/// queried (the first query of a branch-and-bound search, or one link's only part).
+/// queried (the first query of a branch-and-bound search, or one link's only part). Both
+/// queries stop early once GJK proves the pair beyond `bound` (see [`super::bounded`]).
 ///
 /// A triangle-mesh pair's search is warm-started from the triangle `hint` when there is one
 /// (the same result; see `mesh_distance::mesh_distance_hinted`).
 pub(super) fn distance_below_hinted(a: Placed<'_>, b: Placed<'_>, bound: f64, hint: Option<&mut u32>) -> Option<f64> {
     if (a.hull.is_some() || b.hull.is_some()) && bound < f64::INFINITY {
-        if let Some(lb) = distance(a.pose, a.outer(), b.pose, b.outer()) {
-            if lb >= bound {
-                return None;
-            }
+        match distance_within(a.pose, a.outer(), b.pose, b.outer(), bound) {
+            Bounded::Beyond => return None,
+            Bounded::Distance(lb) if lb >= bound => return None,
+            _ => {}
         }
     }
     if let Some(d) = super::mesh_distance::mesh_distance_hinted(a.pose, a.shape, b.pose, b.shape, bound, hint) {
         return d;
     }
-    distance(a.pose, a.shape, b.pose, b.shape).filter(|&d| d < bound)
+    distance_within(a.pose, a.shape, b.pose, b.shape, bound).below(bound)
+}
+
+/// [`distance`] unless the pair is certainly farther than `bound` ([`Bounded::Beyond`]); the
+/// same value bit for bit otherwise.
+pub(super) fn distance_within(
+    p1: &Isometry3<f64>,
+    s1: &dyn ParryShape,
+    p2: &Isometry3<f64>,
+    s2: &dyn ParryShape,
+    bound: f64,
+) -> Bounded {
+    if let (Some(c1), Some(c2)) = (s1.as_cuboid(), s2.as_cuboid()) {
+        let d = support_map_distance_within(&p1.inv_mul(p2), c1, c2, bound + BEYOND_MARGIN);
+        return d.map_or(Bounded::Beyond, Bounded::Distance);
+    }
+    if s1.as_capsule().is_some() && s2.as_cuboid().is_some() || s1.as_cuboid().is_some() && s2.as_capsule().is_some() {
+        return distance(p1, s1, p2, s2).map_or(Bounded::Unsupported, Bounded::Distance);
+    }
+    distance_within_pos12(&p1.inv_mul(p2), s1, s2, bound)
 }
 
 /// Exact distance (0 when overlapping), `None` for unsupported shape pairs.

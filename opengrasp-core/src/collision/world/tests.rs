@@ -352,7 +352,8 @@ fn open_box_trimesh() -> parry3d_f64::shape::SharedShape {
 
 /// Hinted link distances ([`NearestTriangles`]) along a motion of the arm in and around two
 /// open boxes (a static body and a movable object, so both searches take hints) are the
-/// plain query's bit for bit, and leave each measured link's nearest triangle as its hint.
+/// plain query's bit for bit, and leave each measured link's nearest triangle as its hint;
+/// so is the hinted nearest distance ([`CollisionWorld::min_distance_hinted`]).
 #[test]
 fn hinted_link_distances_are_the_plain_ones_bit_for_bit() {
     let mut scene = Scene::new("arm and open boxes");
@@ -366,6 +367,7 @@ fn hinted_link_distances_are_the_plain_ones_bit_for_bit() {
     let n = world.robots[arm.0].n_links();
     let selected = vec![true; n];
     let (mut plain, mut hinted, mut hints) = (Vec::new(), Vec::new(), NearestTriangles::new());
+    let mut nearest_hints = NearestTriangles::new();
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     let mut compared = 0;
     for _ in 0..4 {
@@ -379,8 +381,12 @@ fn hinted_link_distances_are_the_plain_ones_bit_for_bit() {
                 hinted.iter().map(|d| d.to_bits()).collect::<Vec<_>>()
             );
             compared += plain.iter().filter(|d| d.is_finite()).count();
+            // The nearest distance with hints: the plain one bit for bit.
+            let d = world.min_distance(arm, &q).unwrap();
+            assert_eq!(d.to_bits(), world.min_distance_hinted(arm, &q, &mut nearest_hints).unwrap().to_bits());
         }
     }
+    assert!((0..n).any(|l| nearest_hints.triangle(crate::model::LinkId(l)).is_some()));
     // Every link with geometry was measured against the meshes and holds a hint.
     let with_hint = (0..n).filter(|&l| hints.triangle(crate::model::LinkId(l)).is_some()).count();
     assert_eq!(with_hint, plain.iter().filter(|d| d.is_finite()).count());
@@ -389,6 +395,7 @@ fn hinted_link_distances_are_the_plain_ones_bit_for_bit() {
     assert_eq!(hints.triangle(crate::model::LinkId(0)), None);
     // A bad configuration is a typed error.
     assert!(world.selected_link_distances_hinted_into(arm, &[0.0; 3], &selected, &mut hinted, &mut hints).is_err());
+    assert!(world.min_distance_hinted(arm, &[0.0; 3], &mut hints).is_err());
 }
 
 /// The open box's corners and triangles (see [`open_box_trimesh`]).
