@@ -183,7 +183,7 @@ fn failures_explained(cells: &[&opengrasp_grasp::benchmark::CellResult]) -> Stri
     let escaped = sum(|c| c.physics_grip_escaped);
     format!(
         "Of the {failed} simulated grasps not held, {escaped} are explained by the hand's actuation: with gravity off \
-         the squeeze alone moved the object beyond the hold tolerance (2 cm, 20°), its traced contact forces at the \
+         the squeeze alone moved the object beyond the hold tolerance (by default 2 cm, 20°), its traced contact forces at the \
          release pushing it out; {} kept the grasp without gravity and lost it under gravity (unexplained by the grip).",
         failed.saturating_sub(escaped)
     )
