@@ -13,7 +13,10 @@
 //! (0/1), `release` (s: the fixture's wrench ramped to zero over this time; 0: at once), `coupled` (0/1), `per_cell` (grasps per planner and object, default 3), `hand`
 //! (`barrett` or `armar3`; default both). Per object and planner the first 128 candidates
 //! (spread evenly) are evaluated and `per_cell` of the force-closure palm grasps, spread
-//! evenly, are checked; the line shows `[force-closure palm grasps] held/checked`. A check whose
+//! evenly, are checked; the line shows `[force-closure palm grasps] held/checked`. Per hand the
+//! failures are split into those the grip explains (the gravity-free control run loses the
+//! object too, [`opengrasp_grasp::evaluator::PhysicsOutcome::grip_escapes`]) and the rest, with the median of their traced
+//! release pushes ([`opengrasp_grasp::evaluator::PhysicsOutcome::release_push`]); `explain=1` prints each push. A check whose
 //! simulation diverges ([`CoreError::SimulationDiverged`]) counts as checked and not held, and is reported.
 //! `palm_push=d` (m) moves each grasp's hand `d` further along its approach direction (into
 //! the object) before the check. `explain=1` repeats each check's clamped squeeze and prints its contacts' total normal force
