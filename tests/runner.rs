@@ -167,6 +167,29 @@ fn provenance_fields_are_filled() {
 }
 
 #[test]
+fn grasp_legend_splits_physics_failures_into_explained_and_not() {
+    let mut file = hand_made();
+    let g = file.grasp.as_mut().unwrap();
+    // 4 + 3 simulated: 1 + 1 held, 1 diverged, 3 of the other 4 failures escaped without gravity.
+    for (r, (tested, held, diverged, escaped)) in
+        g.cells.iter_mut().zip([(4, 1, 1, 1), (3, 1, 0, 2), (0, 0, 0, 0), (0, 0, 0, 0)])
+    {
+        (r.cell.physics_tested, r.cell.physics_held) = (tested, held);
+        (r.cell.physics_diverged, r.cell.physics_grip_escaped) = (diverged, escaped);
+    }
+    let legend = report::grasp_tables(g)[0].legend.join(" ");
+    assert!(legend.contains("Of the 4 simulated grasps not held, 3 are explained by the hand's actuation"), "{legend}");
+    assert!(legend.contains("; 1 kept the grasp without gravity"), "{legend}");
+    // A record claiming more escapes than failures is rejected.
+    g.cells[1].cell.physics_grip_escaped = 3;
+    let json = serde_json::to_string(&file).unwrap();
+    match ResultsFile::from_json(&json) {
+        Err(Error::Invalid { field, .. }) => assert_eq!(field, "grasp.cells[1].physics_grip_escaped"),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
 fn grasp_tables_have_the_right_numbers() {
     let file = hand_made();
     let tables = report::grasp_tables(file.grasp.as_ref().unwrap());

@@ -13,7 +13,10 @@
 //! (0/1), `release` (s: the fixture's wrench ramped to zero over this time; 0: at once), `coupled` (0/1), `per_cell` (grasps per planner and object, default 3), `hand`
 //! (`barrett` or `armar3`; default both). Per object and planner the first 128 candidates
 //! (spread evenly) are evaluated and `per_cell` of the force-closure palm grasps, spread
-//! evenly, are checked; the line shows `[force-closure palm grasps] held/checked`. A check whose
+//! evenly, are checked; the line shows `[force-closure palm grasps] held/checked`. Per hand the
+//! failures are split into those the grip explains (the gravity-free control run loses the
+//! object too, [`opengrasp_grasp::evaluator::PhysicsOutcome::grip_escapes`]) and the rest, with the median of their traced
+//! release pushes ([`opengrasp_grasp::evaluator::PhysicsOutcome::release_push`]); `explain=1` prints each push. A check whose
 //! simulation diverges ([`CoreError::SimulationDiverged`]) counts as checked and not held, and is reported.
 //! `palm_push=d` (m) moves each grasp's hand `d` further along its approach direction (into
 //! the object) before the check. `explain=1` repeats each check's clamped squeeze and prints its contacts' total normal force
@@ -63,7 +66,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         if !only.is_empty() && only != name {
             continue;
         }
-        let (mut checked, mut held, mut slipped, mut diverged) = (0, 0, 0, 0);
+        let (mut checked, mut held, mut slipped, mut diverged, mut escaped) = (0, 0, 0, 0, 0);
+        // Release pushes (weights) of the failures the grip explains and of the others.
+        let mut pushes: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
         // Per class of clamped squeeze (weak? pushed out?): checked and held.
         let mut classes = [[0usize; 2]; 4];
         for object in objects::NAMES.split_at(8).0 {
@@ -90,6 +95,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         Err(e) => return Err(e.into()),
                     };
                     h += usize::from(outcome.held());
+                    if !outcome.held() {
+                        escaped += usize::from(outcome.grip_escapes);
+                        pushes[usize::from(!outcome.grip_escapes)].push(outcome.release_push);
+                    }
                     if explain {
                         let s = clamped_squeeze(&hand, &object, grasp, &options)?;
                         let weight = object.inertial.mass * options.gravity;
@@ -98,12 +107,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         classes[class][0] += 1;
                         classes[class][1] += usize::from(outcome.held());
                         println!(
-                            "  {:17} {j}: sum N {:7.2} N (palm {:6.2}), mu sum N / mg {:5.2}, fixture / mg {:5.2}, deepest {:4.1} mm: {:?}",
+                            "  {:17} {j}: sum N {:7.2} N (palm {:6.2}), mu sum N / mg {:5.2}, fixture / mg {:5.2}, least push / mg {:5.2}, grip moved {:5.3} m {:4.2} rad, deepest {:4.1} mm: {:?}",
                             object.name,
                             s.normal,
                             s.palm,
                             object.friction * s.normal / weight,
                             s.fixture / weight,
+                            outcome.release_push,
+                            outcome.grip_translation,
+                            outcome.grip_rotation,
                             1e3 * s.depth,
                             outcome.result().unwrap_or(HoldResult::Dropped)
                         );
@@ -118,6 +130,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         let rate = 100.0 * held as f64 / checked.max(1) as f64;
         println!("{name}: held {held}/{checked} ({rate:.0} %), slipped {slipped}, diverged {diverged}");
+        let failed = checked - held - diverged;
+        let median = |v: &mut Vec<f64>| {
+            v.sort_by(f64::total_cmp);
+            v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
+        };
+        let (m0, m1) = (median(&mut pushes[0]), median(&mut pushes[1]));
+        println!(
+            "{name}: of {failed} failures {escaped} explained by the grip (gravity off, it moved the object out; median release push {m0:.1} weights), {} not (median push {m1:.1})",
+            failed - escaped
+        );
         if explain {
             for (class, label) in
                 ["strong, balanced", "strong, pushed out", "weak, balanced", "weak, pushed out"].iter().enumerate()

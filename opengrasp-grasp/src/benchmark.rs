@@ -231,6 +231,14 @@ pub struct CellResult {
     /// Written only when not 0, so records without divergences read as before.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub physics_diverged: usize,
+    /// Of the simulated grasps not held (diverged ones aside), those whose squeeze alone, with
+    /// gravity off, moved the object beyond the hold tolerance
+    /// ([`crate::evaluator::PhysicsOutcome::grip_escapes`]): failures explained by the hand's
+    /// actuation (its grip pushes the object out by itself). The rest of the failures
+    /// (`physics_tested − physics_held − physics_diverged − physics_grip_escaped`) kept the
+    /// grasp without gravity and lost it under gravity.
+    #[serde(default)]
+    pub physics_grip_escaped: usize,
     /// Of the simulated grasps, those the static torque-limited test
     /// ([`crate::evaluator::static_hold`], the object's friction) finds able to hold the
     /// object's weight in all six directions.
@@ -464,6 +472,7 @@ pub fn run_grasp_benchmark_with(
                     physics_dropped: physics.dropped,
                     physics_grip_moved: physics.grip_moved,
                     physics_diverged: physics.diverged,
+                    physics_grip_escaped: physics.grip_escaped,
                     static_holdable: physics.static_holdable,
                     static_agree: physics.static_agree,
                     planning_seconds,

@@ -152,6 +152,9 @@ fn box_pinch_holds_its_weight_iff_two_mu_f_exceeds_mg() {
     assert!(holds.translations.iter().all(|&t| t < 5e-6), "{holds:?}");
     // Without gravity the pinch itself moves neither box.
     assert!(slips.grip_translation < 1e-3 && holds.grip_translation < 1e-3, "{slips:?} {holds:?}");
+    // ... and its opposed, equal pad forces balance at the release.
+    assert!(!slips.grip_escapes && !holds.grip_escapes, "{slips:?} {holds:?}");
+    assert!(holds.release_push < 1e-3, "{holds:?}");
     // Deterministic to the last bit.
     assert_eq!(check(0.0, mass, 1.05 * threshold, &along_pads), holds);
 }
@@ -171,6 +174,17 @@ fn wedge_pinch_squeezes_out_iff_mu_is_below_tan_alpha() {
     // 4.8 mm at 5 % above).
     assert!(out.grip_translation > 0.1, "{out:?}");
     assert!(stays.grip_translation < 5e-3, "{stays:?}");
+    // The failure is the grip's own (it escapes without gravity), and the traced forces at the
+    // release say why: pads pressing with F (normal forces N = F / cos α) push the wedge out
+    // with 2 N sin α, of which friction takes back at most 2 μ N cos α, leaving
+    // 2 F (tan α − μ) = 0.1 F tan α = 0.36 N = 0.37 weights at μ = 0.95 tan α (measured 0.36)
+    // and nothing at 1.15 tan α (measured 0.09 weights: 0.4 % of the pads' 2 F, the simulated
+    // pads pressing not quite equally).
+    assert!(out.grip_escapes && !stays.grip_escapes, "{out:?} {stays:?}");
+    let push = 2.0 * PAD_FORCE * (threshold - 0.95 * threshold) / (0.1 * 9.81);
+    println!("release push below {:.4}, above {:.4}, analytic {push:.4} weights", out.release_push, stays.release_push);
+    assert!((out.release_push - push).abs() < 0.1 * push, "{} vs {push}", out.release_push);
+    assert!(stays.release_push < 0.15, "{}", stays.release_push);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -49,6 +49,7 @@ pub fn cell(
         physics_dropped: 0,
         physics_grip_moved: 0,
         physics_diverged: 0,
+        physics_grip_escaped: 0,
         static_holdable: 0,
         static_agree: 0,
         planning_seconds: 0.01,

@@ -59,6 +59,8 @@ pub(super) fn validate_grasp(g: &GraspSection) -> Result<()> {
         at_most(&f("static_agree"), c.static_agree, "physics_tested", c.physics_tested)?;
         at_most(&f("physics_diverged"), c.physics_diverged, "physics_tested", c.physics_tested)?;
         at_most(&f("physics_held"), c.physics_held + c.physics_diverged, "physics_tested", c.physics_tested)?;
+        let finished_failures = c.physics_tested.saturating_sub(c.physics_held + c.physics_diverged);
+        at_most(&f("physics_grip_escaped"), c.physics_grip_escaped, "failed checks", finished_failures)?;
         percent(&f("fc_percent_palm"), c.fc_percent_palm)?;
         percent(&f("fc_percent_all"), c.fc_percent_all)?;
         non_negative(&f("mean_epsilon"), c.mean_epsilon)?;

@@ -20,6 +20,9 @@ pub(crate) struct PhysicsTally {
     pub grip_moved: usize,
     /// The simulation diverged: counted as tested and not held, with no other outcome.
     pub diverged: usize,
+    /// Not held, and the squeeze alone (no gravity) moved the object out of the hold tolerance
+    /// ([`PhysicsOutcome::grip_escapes`]): failures of the hand's actuation.
+    pub grip_escaped: usize,
     /// The static torque-limited test finds the grasp able to hold the weight.
     pub static_holdable: usize,
     /// Static test and simulation agree (simulations that finished only).
@@ -56,6 +59,7 @@ impl PhysicsTally {
         self.dropped += usize::from(outcome.result() == Some(HoldResult::Dropped));
         self.grip_moved += usize::from(outcome.grip_translation > drop_translation);
         self.static_agree += usize::from(static_holdable == held);
+        self.grip_escaped += usize::from(!held && outcome.grip_escapes);
         Ok(Some(held))
     }
 }
@@ -85,6 +89,8 @@ mod tests {
             results,
             grip_translation,
             grip_rotation: 0.0,
+            release_push: 0.0,
+            grip_escapes: grip_translation > options.max_translation,
         }
     }
 
@@ -103,6 +109,7 @@ mod tests {
             dropped: 1,
             grip_moved: 1,
             diverged: 1,
+            grip_escaped: 1,
             static_holdable: 2,
             static_agree: 1,
         };

@@ -14,20 +14,20 @@ use crate::error::Result;
 /// Contacts weaker than this (N) are not counted as touching.
 const MIN_FORCE: f64 = 1e-6;
 
-/// `evaluation` as the simulator holds it: the joint positions of `hand` (robot `robot` in
-/// `engine`; clamped into their limits) and its contacts with `object` (each point of a contact manifold pressing with more than
-/// 1 µN; object frame, inward normals, depth = penetration).
+/// The contacts of `hand` (robot `robot` in `engine`) with `object` as the simulator holds them,
+/// each with its normal force (N): every point of a contact manifold pressing with more than
+/// 1 µN, in the object frame with inward normals and depth = penetration, its finger taken from
+/// `evaluation`'s contact on the same link.
 ///
 /// # Errors
 /// [`crate::GraspError::Core`] from the engine, [`crate::GraspError::NonFinite`] for a
 /// non-finite contact.
-pub fn simulated_evaluation<E: PhysicsEngine + ?Sized>(
+pub fn simulated_contacts<E: PhysicsEngine + ?Sized>(
     engine: &E,
-    hand: &Hand,
     robot: RobotId,
     object: ObjectId,
     evaluation: &GraspEvaluation,
-) -> Result<GraspEvaluation> {
+) -> Result<Vec<(GraspContact, f64)>> {
     let to_object = engine.object_pose(object)?.inverse();
     let mut contacts = Vec::new();
     for c in engine.contacts().iter().filter(|c| c.normal_force > MIN_FORCE) {
@@ -44,8 +44,25 @@ pub fn simulated_evaluation<E: PhysicsEngine + ?Sized>(
         };
         let finger = evaluation.contacts.iter().find(|g| g.link == link.0).and_then(|g| g.finger);
         let contact = Contact::new(to_object * c.point, to_object * inward)?;
-        contacts.push(GraspContact { link: link.0, finger, contact, depth: -c.distance });
+        contacts.push((GraspContact { link: link.0, finger, contact, depth: -c.distance }, c.normal_force));
     }
+    Ok(contacts)
+}
+
+/// `evaluation` as the simulator holds it: the joint positions of `hand` (robot `robot` in
+/// `engine`; clamped into their limits) and its contacts with `object`
+/// ([`simulated_contacts`], without their forces).
+///
+/// # Errors
+/// As [`simulated_contacts`].
+pub fn simulated_evaluation<E: PhysicsEngine + ?Sized>(
+    engine: &E,
+    hand: &Hand,
+    robot: RobotId,
+    object: ObjectId,
+    evaluation: &GraspEvaluation,
+) -> Result<GraspEvaluation> {
+    let contacts = simulated_contacts(engine, robot, object, evaluation)?.into_iter().map(|(c, _)| c).collect();
     // The solver lets joints overshoot their limits by micro-radians: clamp into the model's.
     let mut q = engine.joint_positions(robot)?;
     hand.robot().clamp_configuration(&mut q);

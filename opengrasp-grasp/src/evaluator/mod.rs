@@ -21,6 +21,7 @@
 //! it) could set its finger's step or stop it; the steps are exactly those of querying every
 //! link.
 
+mod balance;
 mod closing;
 mod grip;
 mod grip_sim;
@@ -48,8 +49,9 @@ use crate::quality::hull::{ConvexHull, HullOptions};
 use crate::quality::{GraspQuality, QualityOptions, QualityReport, RobustEpsilon};
 use opengrasp_core::object::ObjectModel;
 
+pub use balance::release_imbalance;
 pub use grip::{closing_grip, command_grip, grip_torques, stiffen_grip, GripTorques, JointTorque};
-pub use grip_sim::{after_squeeze, simulated_evaluation};
+pub use grip_sim::{after_squeeze, simulated_contacts, simulated_evaluation};
 pub use hand_data::hand_info;
 use hand_data::{hand_data, hand_radius, HandData};
 pub use options::EvaluatorOptions;

@@ -13,6 +13,20 @@ use opengrasp_core::object::ObjectModel;
 use super::{EvaluationStatus, GraspEvaluation};
 
 /// Options of the physics check ([`physics_check`]).
+///
+/// Why the benchmark grasps fail (`physics_sweep per_cell=5`, these defaults: Barrett 42/79
+/// held, ARMAR-III 11/80): the grip, not gravity. 36 of Barrett's 37 failures and all 69 of
+/// ARMAR-III's lose the object in the gravity-free control run as well
+/// ([`PhysicsOutcome::grip_escapes`]); at the release their traced contact normal forces push
+/// it with a median 17 (Barrett) and 11 (ARMAR-III) object weights that no friction inside the
+/// cones cancels ([`PhysicsOutcome::release_push`]). Settings tried against it on ARMAR-III
+/// (`hand=armar3 per_cell=3`, 7/48 held with these defaults): contacts at 100 Hz 4/48, at
+/// 1 kHz 1/48 (2 diverged); joint stiffness 1e5 4/48; a 1 ms timestep 8/48, with `spring = 0.4`
+/// and 1 kHz contacts 9/48; closing on the free object (`fixture` off) 6/48, with `spring = 0.4`
+/// 5/48, `spring = 1` 1/48; `effort = 1` at 1 kHz 0/48 (33 diverged; 2 without the fixture),
+/// `effort = 0.3` 0/48; thumb efforts 15 N·m instead of 5 N·m 7/48, fingers 1.67 N·m 6/48 (at
+/// 30 Hz the contacts' softness, not the caps, sets the grip forces); the joints locked at the
+/// release (position targets at the simulated positions, or 0.05 rad past them) 5/48, 4/48.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PhysicsCheckOptions {
     /// Directions of gravity tried one after the other (object frame), each in its own
@@ -275,6 +289,19 @@ pub struct PhysicsOutcome {
     /// How far (rad) the squeeze alone turned the object in the control run.
     #[serde(default)]
     pub grip_rotation: f64,
+    /// The grip's own imbalance at the release, in object weights: the least net wrench the
+    /// simulated contacts' traced normal forces put on the object with the best friction inside
+    /// the cones and free palm contacts ([`super::release_imbalance`]). Diagnostic: the object
+    /// is pushed with at least this force the moment the fixture lets go.
+    #[serde(default)]
+    pub release_push: f64,
+    /// The squeeze alone (the gravity-free control run) moved the object farther than
+    /// `max_translation` or turned it more than `max_rotation`: the simulated grip does not
+    /// keep the evaluated grasp even without gravity, so a failure to hold is the hand's
+    /// actuation (its traced forces at the release push by [`Self::release_push`] weights),
+    /// not the grasp's resistance to gravity.
+    #[serde(default)]
+    pub grip_escapes: bool,
 }
 
 impl PhysicsOutcome {
@@ -366,7 +393,7 @@ pub fn physics_check_with<E: PhysicsEngine>(
     }
     // The squeezing fingers settle without gravity (the object clamped with `fixture`), the
     // object is released: the state every run starts from.
-    let settled = || -> Result<E> {
+    let settled = || -> Result<(E, f64)> {
         let (mut engine, rid) = squeeze_engine::<E>(hand, object, evaluation, &squeeze)?;
         if let Some(grip) = &grip {
             super::grip::command_grip(&mut engine, rid, hand, grip)?;
@@ -379,21 +406,22 @@ pub fn physics_check_with<E: PhysicsEngine>(
             engine.set_object_fixed(oid, true)?;
         }
         engine.step_n(settle_steps, dt)?;
+        let imbalance = super::release_imbalance(&engine, hand, rid, oid, object, evaluation)?;
         if let Some(grip) = &grip {
             super::grip_sim::after_squeeze(&mut engine, rid, hand, object, evaluation, grip, options)?;
         }
         if options.fixture {
             super::release::release_gradually(&mut engine, oid, object, options.release, dt)?;
         }
-        Ok(engine)
+        Ok((engine, imbalance))
     };
     // Settled once: each run continues from a snapshot of it (bitwise what settling afresh
     // gives), or from a fresh settle on a backend without snapshots.
-    let start = settled()?;
+    let (start, imbalance) = settled()?;
     let run = |gravity: Vector3<f64>| -> Result<Isometry3<f64>> {
         let mut engine = match start.snapshot() {
             Some(engine) => engine,
-            None => settled()?,
+            None => settled()?.0,
         };
         engine.set_gravity(gravity)?;
         engine.step_n(steps, dt)?;
@@ -407,8 +435,11 @@ pub fn physics_check_with<E: PhysicsEngine>(
         results: Vec::new(),
         grip_translation: control.translation.vector.norm(),
         grip_rotation: control.rotation.angle(),
+        release_push: imbalance / (object.inertial.mass * options.gravity),
+        grip_escapes: control.translation.vector.norm() > options.max_translation
+            || control.rotation.angle() > options.max_rotation,
     };
-    for g in gravities {
+    for &g in &gravities {
         let pose = run(g)?;
         let translation = (pose.translation.vector - control.translation.vector).norm();
         let rotation = pose.rotation.angle_to(&control.rotation);

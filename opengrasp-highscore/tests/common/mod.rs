@@ -42,6 +42,7 @@ pub fn cell(planner: &str, hand: &str, object: &str, palm: usize, fc: usize, eps
             physics_dropped: 0,
             physics_grip_moved: 0,
             physics_diverged: 0,
+            physics_grip_escaped: 0,
             static_holdable: 0,
             static_agree: 0,
             planning_seconds: 0.01,
