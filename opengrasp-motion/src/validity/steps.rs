@@ -74,11 +74,18 @@ fn steps_within(x: f64, n: usize) -> usize {
 
 /// Sets the bits `lo..=hi` of a bit set stored one word every `stride` entries of `bits`.
 #[inline(always)]
-pub(super) fn set_bits(bits: &mut [u64], stride: usize, (lo, hi): (usize, usize)) {
+pub(super) fn set_bits(bits: &mut [u64], stride: usize, span: (usize, usize)) {
+    for_words(span, |w, mask| bits[w * stride] |= mask);
+}
+
+/// Calls `f(w, mask)` for each word `w` of a bit set holding bits of `lo..=hi`, `mask` the
+/// bits of `lo..=hi` in word `w` (state `i` is bit `i % 64` of word `i / 64`).
+#[inline(always)]
+pub(super) fn for_words((lo, hi): (usize, usize), mut f: impl FnMut(usize, u64)) {
     for w in lo / 64..=hi / 64 {
         let from = if w == lo / 64 { lo % 64 } else { 0 };
         let to = if w == hi / 64 { hi % 64 } else { 63 };
-        bits[w * stride] |= (u64::MAX >> (63 - to)) & (u64::MAX << from);
+        f(w, (u64::MAX >> (63 - to)) & (u64::MAX << from));
     }
 }
 
