@@ -14,7 +14,7 @@ use super::SphereWorld;
 use crate::validate::{coarse_to_fine_into, interpolate_into, segment_subdivisions};
 use crate::validity::chain::Mat34;
 use crate::validity::soa::{Centres, Scratch};
-use crate::validity::steps::{reach, set_bits, StepWeights};
+use crate::validity::steps::{for_words, reach, set_bits, StepWeights};
 use crate::validity::MotionBound;
 
 /// Absolute slack (m) taken off every certified gap: covers the rounding of the kinematics
@@ -200,7 +200,9 @@ impl SphereWorld {
     /// The state loop of [`SphereWorld::check_motion_certified`]: checks the states of the
     /// motion `a → b` of `n` steps in `order`, skipping the tests (and states) that
     /// `s.certified` and `s.all` certify and certifying around each computed gap. Generic
-    /// over the bit-set layout so that motions of one word keep single-word arithmetic.
+    /// over the bit-set layout so that motions of one word keep single-word arithmetic. The
+    /// loops run over pre-sliced rows (the tests, their bounds and a state word's bits) in
+    /// blocks, with no index to check.
     fn check_states<B: StateBits>(
         &self,
         s: &mut Scratch,
@@ -209,8 +211,11 @@ impl SphereWorld {
         n: usize,
         order: &[usize],
     ) -> (bool, u64) {
-        let tests = self.cert.tests.len();
+        let kinds = self.cert.tests.as_slice();
+        let tests = kinds.len();
         let mut q = std::mem::take(&mut s.q);
+        let mut certified = std::mem::take(&mut s.certified);
+        let per_step = std::mem::take(&mut s.per_step);
         let mut verdict = (true, order.len() as u64);
         'states: for (pos, &i) in order.iter().enumerate() {
             let (w, bit) = B::locate(i);
@@ -224,34 +229,49 @@ impl SphereWorld {
                 interpolate_into(a, b, i as f64 / n as f64, &mut q);
             }
             let mut placed = false;
-            let row = w * tests;
             // The AND of the tests' words once this state is checked.
             let mut all = u64::MAX;
+            // The state's word of every test, and the words before and after it.
+            let (before, rest) = certified.split_at_mut(w * tests);
+            let (row, after) = rest.split_at_mut(tests);
+            let blocks = row.chunks_mut(BLOCK).zip(kinds.chunks(BLOCK)).zip(per_step.chunks(BLOCK));
             // Most tests are certified: skip them a block at a time.
-            for block in (0..tests).step_by(BLOCK) {
-                let end = (block + BLOCK).min(tests);
-                let both = s.certified[row + block..row + end].iter().fold(u64::MAX, |acc, &b| acc & b);
+            for (block, ((words, kinds), per_step)) in blocks.enumerate() {
+                let both = words.iter().fold(u64::MAX, |acc, &b| acc & b);
                 if both >> bit & 1 == 1 {
                     all &= both;
                     continue;
                 }
-                for t in block..end {
-                    let mut bits = s.certified[row + t];
-                    if bits >> bit & 1 == 0 {
-                        let Some(gap) = self.gap_at(self.cert.tests[t], &q, s, &mut placed) else {
+                for (j, ((bits, &test), &per_step)) in words.iter_mut().zip(kinds).zip(per_step).enumerate() {
+                    if *bits >> bit & 1 == 0 {
+                        let Some(gap) = self.gap_at(test, &q, s, &mut placed) else {
                             verdict = (false, pos as u64 + 1);
                             break 'states;
                         };
-                        bits = B::set(&mut s.certified, tests, t, w, reach(gap, SLACK, s.per_step[t], i, n));
+                        let span = reach(gap, SLACK, per_step, i, n);
+                        B::set(Row { before, bits, after, tests, t: block * BLOCK + j, w }, span);
                     }
-                    all &= bits;
+                    all &= *bits;
                 }
             }
-            B::update_all(&s.certified, tests, w, all, &mut s.all);
+            B::update_all(&certified, tests, all, &mut s.all);
         }
         s.q = q;
+        s.certified = certified;
+        s.per_step = per_step;
         verdict
     }
+}
+
+/// Test `t`'s certificate words around the state word `w` being checked: `bits` its word `w`,
+/// `before` and `after` the words `< w` and `> w` of all `tests` tests.
+struct Row<'a> {
+    before: &'a mut [u64],
+    bits: &'a mut u64,
+    after: &'a mut [u64],
+    tests: usize,
+    t: usize,
+    w: usize,
 }
 
 /// The layout of a motion check's certificate bits: per state word `w` and test `t`, the word
@@ -259,11 +279,11 @@ impl SphereWorld {
 trait StateBits {
     /// The word of state `i` and its bit in it.
     fn locate(i: usize) -> (usize, usize);
-    /// Sets the bits `lo..=hi` of test `t` (of `tests`) and returns its word `w`.
-    fn set(bits: &mut [u64], tests: usize, t: usize, w: usize, span: (usize, usize)) -> u64;
-    /// Brings `all` up to date after a state of word `w` was checked; `and` is the AND of the
-    /// tests' words `w` after it.
-    fn update_all(bits: &[u64], tests: usize, w: usize, and: u64, all: &mut [u64]);
+    /// Sets the bits `lo..=hi` of the row's test.
+    fn set(row: Row<'_>, span: (usize, usize));
+    /// Brings `all` up to date after a state was checked; `and` is the AND of the tests'
+    /// words of that state after it.
+    fn update_all(bits: &[u64], tests: usize, and: u64, all: &mut [u64]);
 }
 
 /// Motions of fewer than 64 states: one word per test.
@@ -276,13 +296,12 @@ impl StateBits for OneWord {
     }
 
     #[inline(always)]
-    fn set(bits: &mut [u64], _: usize, t: usize, _: usize, (lo, hi): (usize, usize)) -> u64 {
-        bits[t] |= (u64::MAX >> (63 - hi)) & (u64::MAX << lo);
-        bits[t]
+    fn set(row: Row<'_>, (lo, hi): (usize, usize)) {
+        *row.bits |= (u64::MAX >> (63 - hi)) & (u64::MAX << lo);
     }
 
     #[inline(always)]
-    fn update_all(_: &[u64], _: usize, _: usize, and: u64, all: &mut [u64]) {
+    fn update_all(_: &[u64], _: usize, and: u64, all: &mut [u64]) {
         all[0] = and;
     }
 }
@@ -297,13 +316,17 @@ impl StateBits for Words {
     }
 
     #[inline(always)]
-    fn set(bits: &mut [u64], tests: usize, t: usize, w: usize, span: (usize, usize)) -> u64 {
-        set_bits(&mut bits[t..], tests, span);
-        bits[w * tests + t]
+    fn set(row: Row<'_>, span: (usize, usize)) {
+        let Row { before, bits, after, tests, t, w } = row;
+        for_words(span, |v, mask| match v.cmp(&w) {
+            std::cmp::Ordering::Less => before[v * tests + t] |= mask,
+            std::cmp::Ordering::Equal => *bits |= mask,
+            std::cmp::Ordering::Greater => after[(v - w - 1) * tests + t] |= mask,
+        });
     }
 
     #[inline(always)]
-    fn update_all(bits: &[u64], tests: usize, _: usize, _: u64, all: &mut [u64]) {
+    fn update_all(bits: &[u64], tests: usize, _: u64, all: &mut [u64]) {
         all_certified(bits, tests, all);
     }
 }
