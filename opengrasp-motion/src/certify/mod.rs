@@ -281,14 +281,7 @@ impl SphereCertifier {
             .iter()
             .flat_map(|&(i, j)| {
                 let (a, b) = (models[i].slot, models[j].slot);
-                (0..bound.dim()).map(move |g| {
-                    let (ra, rb) = (bound.radius(a, g), bound.radius(b, g));
-                    if ra > 0.0 && rb > 0.0 {
-                        0.0
-                    } else {
-                        ra + rb
-                    }
-                })
+                bound.pair_radii(&robot, group, a, b)
             })
             .collect();
         Ok(Self {

@@ -130,8 +130,106 @@ impl MotionBound {
     pub fn is_moving(&self, i: usize) -> bool {
         self.radii[i * self.dim..(i + 1) * self.dim].iter().any(|&r| r > 0.0)
     }
+    /// Per group joint `j`, the weight of link pair `(a, b)` (indices into
+    /// [`MotionBound::links`]) in a bound on how much their distance changes: `r_aj` if `j`
+    /// drives a joint on `a`'s chain that is not on `b`'s (it moves `a` relative to `b`), plus
+    /// the same for `b`. A group joint that drives only common ancestors moves the pair rigidly
+    /// and weighs 0; one coupled to joints on both chains (a mimic) weighs `r_aj + r_bj`.
+    /// `robot` and `group` are the ones the bound was built for.
+    pub fn pair_radii(&self, robot: &Robot, group: &JointGroup, a: usize, b: usize) -> Vec<f64> {
+        let own = |link: LinkId, other: LinkId| {
+            let theirs = robot.chain_to(other);
+            let mut own = vec![false; self.dim];
+            for j in robot.chain_to(link).into_iter().filter(|j| !theirs.contains(j)) {
+                if let Some(g) = robot.driving_dof(j).and_then(|(d, _)| group.dofs().iter().position(|&x| x == d)) {
+                    own[g] = true;
+                }
+            }
+            own
+        };
+        let (link_a, link_b) = (self.links[a], self.links[b]);
+        let (own_a, own_b) = (own(link_a, link_b), own(link_b, link_a));
+        (0..self.dim)
+            .map(|j| {
+                let wa = if own_a[j] { self.radius(a, j) } else { 0.0 };
+                let wb = if own_b[j] { self.radius(b, j) } else { 0.0 };
+                wa + wb
+            })
+            .collect()
+    }
     /// `B_i(Δq) = Σ_j |Δq_j| r_ij` for link index `i`.
     pub fn bound(&self, i: usize, dq: &[f64]) -> f64 {
         self.radii[i * self.dim..(i + 1) * self.dim].iter().zip(dq).map(|(r, d)| r * d.abs()).sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Isometry3, Vector3};
+    use opengrasp_core::model::{Geometry, JointSpec, Link, RobotBuilder, Shape};
+
+    /// A turning palm with two sliding fingers, the right one mimicking the left in mirror
+    /// (a parallel gripper's coupled jaws); group = palm yaw and the left jaw.
+    fn gripper() -> (Robot, JointGroup) {
+        let jaw = || Shape::at_origin(Geometry::cuboid(0.02, 0.02, 0.05));
+        let mut robot = RobotBuilder::new("gripper")
+            .link(Link::new("base"))
+            .link(Link::new("palm").with_shape(Shape::at_origin(Geometry::cuboid(0.1, 0.1, 0.02))))
+            .link(Link::new("left").with_shape(jaw()))
+            .link(Link::new("right").with_shape(jaw()))
+            .joint(
+                JointSpec::new("yaw", JointKind::Revolute, "base", "palm")
+                    .axis(Vector3::z())
+                    .limits(-3.0, 3.0, 1.0, 10.0),
+            )
+            .joint(
+                JointSpec::new("left", JointKind::Prismatic, "palm", "left")
+                    .origin(Isometry3::translation(0.0, 0.05, 0.05))
+                    .axis(-Vector3::y())
+                    .limits(0.0, 0.04, 0.1, 10.0),
+            )
+            .joint(
+                JointSpec::new("right", JointKind::Prismatic, "palm", "right")
+                    .origin(Isometry3::translation(0.0, -0.05, 0.05))
+                    .axis(Vector3::y())
+                    .limits(0.0, 0.04, 0.1, 10.0)
+                    .mimic("left", 1.0, 0.0),
+            )
+            .build()
+            .unwrap();
+        robot.add_group("hand", &["yaw", "left"]).unwrap();
+        let group = JointGroup::all(&robot, "hand").unwrap();
+        (robot, group)
+    }
+
+    #[test]
+    fn pair_radii_count_coupled_jaws_and_not_shared_ancestors() {
+        let (robot, group) = gripper();
+        let bound = MotionBound::from_robot(&robot, &group).unwrap();
+        let slot = |name: &str| bound.links().iter().position(|&l| robot.link(l).name == name).unwrap();
+        let (palm, left, right) = (slot("palm"), slot("left"), slot("right"));
+        // Jaws against each other: the yaw turns both rigidly (0); the left jaw's dof drives a
+        // joint on each chain, so the jaws close on each other at twice its speed (1 + 1).
+        assert_eq!(bound.pair_radii(&robot, &group, left, right), vec![0.0, 2.0]);
+        assert_eq!(bound.pair_radii(&robot, &group, right, left), vec![0.0, 2.0]);
+        // A jaw against the palm it slides on: only its own slide moves it (r = 1).
+        assert_eq!(bound.pair_radii(&robot, &group, palm, left), vec![0.0, 1.0]);
+        assert_eq!(bound.pair_radii(&robot, &group, right, palm), vec![0.0, 1.0]);
+        // The yaw alone moves each jaw by its radius relative to the world, not to the palm.
+        assert!(bound.radius(left, 0) > 0.05 && bound.radius(right, 0) > 0.05);
+        // The bound is tight for the jaws' relative motion: closing by Δ brings their origins
+        // 2Δ closer, the bound allows Σ |Δq| w = 2Δ (plus 0 for any yaw).
+        let index = |name: &str| robot.links().iter().position(|l| l.name == name).unwrap();
+        let gap = |q: &[f64]| {
+            let poses = opengrasp_core::kinematics::forward_kinematics(&robot, q).unwrap();
+            let p = poses.as_slice();
+            (p[index("left")].translation.vector - p[index("right")].translation.vector).norm()
+        };
+        let (open, closed) = (gap(&[0.4, 0.0]), gap(&[1.1, 0.03]));
+        let weights = bound.pair_radii(&robot, &group, left, right);
+        let allowed = weights[0] * 0.7 + weights[1] * 0.03;
+        assert!((open - closed - 0.06).abs() < 1e-12, "jaws closed by {}", open - closed);
+        assert!(allowed >= open - closed - 1e-12, "bound {allowed} below the closing {}", open - closed);
     }
 }

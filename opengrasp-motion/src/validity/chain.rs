@@ -119,18 +119,6 @@ impl Chain {
         self.links[l.0]
     }
 
-    /// The moving frames from frame `f` down to the world (`f` first, frame 0 excluded), each
-    /// with the index of the group value that drives it.
-    pub fn lineage(&self, mut f: usize) -> Vec<(usize, usize)> {
-        let mut out = Vec::new();
-        while f != 0 {
-            let frame = &self.frames[f - 1];
-            out.push((f, frame.dof));
-            f = frame.parent;
-        }
-        out
-    }
-
     /// Moving frame `f` (≥ 1): its parent frame, the group value driving it, and for a
     /// revolute joint its axis (in the frame's own coordinates, through its origin) and the
     /// joint's scale (joint angle = scale · value + offset); `None` for a prismatic joint.

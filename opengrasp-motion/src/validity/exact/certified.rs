@@ -46,17 +46,6 @@ impl ExactCertificates {
         let tests = world.gap_tests(robot_id).ok()??;
         let dim = group.len();
         let index = |link: LinkId| bound.links().iter().position(|&l| l == link);
-        // Per link, the group values driving a joint on its chain that is not on `other`'s.
-        let own = |link: LinkId, other: LinkId| {
-            let theirs = robot.chain_to(other);
-            let mut own = vec![false; dim];
-            for j in robot.chain_to(link).into_iter().filter(|j| !theirs.contains(j)) {
-                if let Some(g) = robot.driving_dof(j).and_then(|(d, _)| group.dofs().iter().position(|&x| x == d)) {
-                    own[g] = true;
-                }
-            }
-            own
-        };
         let mut weights = Vec::with_capacity(tests.len() * dim);
         for test in &tests {
             match *test {
@@ -66,12 +55,7 @@ impl ExactCertificates {
                 }
                 GapTest::Pair { link_a, link_b, .. } => {
                     let (ka, kb) = (index(link_a)?, index(link_b)?);
-                    let (own_a, own_b) = (own(link_a, link_b), own(link_b, link_a));
-                    weights.extend((0..dim).map(|j| {
-                        let wa = if own_a[j] { bound.radius(ka, j) } else { 0.0 };
-                        let wb = if own_b[j] { bound.radius(kb, j) } else { 0.0 };
-                        wa + wb
-                    }));
+                    weights.extend(bound.pair_radii(robot, group, ka, kb));
                 }
             }
         }

@@ -63,19 +63,7 @@ impl SphereWorld {
         }
         for (p, &(a, b)) in self.moving_pairs.iter().enumerate() {
             tests.push(Test::Pair { a, b, p });
-            let (la, lb) = (
-                self.chain.lineage(self.chain.link(self.links[a]).0),
-                self.chain.lineage(self.chain.link(self.links[b]).0),
-            );
-            // Group values driving a frame that carries one link and not the other.
-            let own = |mine: &[(usize, usize)], other: &[(usize, usize)], j: usize| {
-                mine.iter().any(|&(f, d)| d == j && !other.iter().any(|&(g, _)| g == f))
-            };
-            weights.extend((0..dim).map(|j| {
-                let wa = if own(&la, &lb, j) { bound.radius(a, j) } else { 0.0 };
-                let wb = if own(&lb, &la, j) { bound.radius(b, j) } else { 0.0 };
-                wa + wb
-            }));
+            weights.extend(bound.pair_radii(&self.robot, &self.group, a, b));
         }
         Certificates { tests, weights: StepWeights::from_rows(&weights, dim) }
     }
