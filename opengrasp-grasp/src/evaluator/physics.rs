@@ -146,6 +146,18 @@ pub struct PhysicsCheckOptions {
     /// iterations). Traced, the grips that fail are out of balance by many times the weight,
     /// which no release rate can fix.
     pub release: f64,
+    /// `Some(τ)`: quasi-static closing on a free object (needs `fixture` off). While the
+    /// fingers squeeze during `settle`, the object is free but feels viscous damping of time
+    /// constant `τ` (s): the force `−(m / τ) v` and the torque `−(I / τ) ω`, as if it rested in
+    /// a viscous medium (or slid on a table) while a real hand closes, so it drifts at about
+    /// `F τ / m` under a net grip force `F` to where the finger forces balance, instead of
+    /// being flung by the first finger to touch. The damping is then ramped to zero over
+    /// `damping_ramp` before the gravity-free control run and the gravity runs.
+    /// Default: `None`.
+    pub closing_damping: Option<f64>,
+    /// With `closing_damping`: time (s) over which the damping rate falls linearly from `1 / τ`
+    /// to zero after `settle`. Default: 0.1.
+    pub damping_ramp: f64,
     /// An object that is not held counts as dropped if gravity moved it farther than this
     /// (m), as slipped (it moved in the hand but stayed near it) otherwise. Default: 0.1.
     pub drop_translation: f64,
@@ -189,6 +201,8 @@ impl Default for PhysicsCheckOptions {
             drop_translation: 0.1,
             fixture: true,
             release: 0.0,
+            closing_damping: None,
+            damping_ramp: 0.1,
             physics: PhysicsOptions {
                 contact_frequency: 30.0,
                 solver_iterations: 16,
@@ -218,7 +232,12 @@ impl PhysicsCheckOptions {
         ] {
             crate::planners::check_positive(name, v)?;
         }
-        for (name, v) in [("settle", self.settle), ("squeeze", self.squeeze), ("release", self.release)] {
+        for (name, v) in [
+            ("settle", self.settle),
+            ("squeeze", self.squeeze),
+            ("release", self.release),
+            ("damping_ramp", self.damping_ramp),
+        ] {
             if !(v.is_finite() && v >= 0.0) {
                 return Err(GraspError::InvalidParameter { name, reason: format!("must be finite and >= 0, got {v}") });
             }
@@ -235,6 +254,15 @@ impl PhysicsCheckOptions {
                 return Err(GraspError::InvalidParameter {
                     name: "spring",
                     reason: "excludes `effort` and `balanced` (only one actuator model can drive the fingers)".into(),
+                });
+            }
+        }
+        if let Some(tau) = self.closing_damping {
+            crate::planners::check_positive("closing_damping", tau)?;
+            if self.fixture {
+                return Err(GraspError::InvalidParameter {
+                    name: "closing_damping",
+                    reason: "needs `fixture` off (the damped object is free while the fingers close)".into(),
                 });
             }
         }
@@ -405,6 +433,9 @@ pub fn physics_check_with<E: PhysicsEngine>(
         if options.fixture {
             engine.set_object_fixed(oid, true)?;
         }
+        if let Some(tau) = options.closing_damping {
+            engine.set_object_damping(oid, 1.0 / tau, 1.0 / tau)?;
+        }
         engine.step_n(settle_steps, dt)?;
         let imbalance = super::release_imbalance(&engine, hand, rid, oid, object, evaluation)?;
         if let Some(grip) = &grip {
@@ -412,6 +443,9 @@ pub fn physics_check_with<E: PhysicsEngine>(
         }
         if options.fixture {
             super::release::release_gradually(&mut engine, oid, object, options.release, dt)?;
+        }
+        if let Some(tau) = options.closing_damping {
+            super::release::undamp_gradually(&mut engine, oid, 1.0 / tau, options.damping_ramp, dt)?;
         }
         Ok((engine, imbalance))
     };
