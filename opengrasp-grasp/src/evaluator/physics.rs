@@ -26,7 +26,8 @@ use super::{EvaluationStatus, GraspEvaluation};
 /// 5/48, `spring = 1` 1/48; `effort = 1` at 1 kHz 0/48 (33 diverged; 2 without the fixture),
 /// `effort = 0.3` 0/48; thumb efforts 15 N·m instead of 5 N·m 7/48, fingers 1.67 N·m 6/48 (at
 /// 30 Hz the contacts' softness, not the caps, sets the grip forces); the joints locked at the
-/// release (position targets at the simulated positions, or 0.05 rad past them) 5/48, 4/48.
+/// release (position targets at the simulated positions, or 0.05 rad past them) 5/48, 4/48;
+/// a quasi-static closing on the free, damped object ([`Self::closing_damping`]) 6–8/48.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PhysicsCheckOptions {
     /// Directions of gravity tried one after the other (object frame), each in its own
@@ -153,7 +154,18 @@ pub struct PhysicsCheckOptions {
     /// `F τ / m` under a net grip force `F` to where the finger forces balance, instead of
     /// being flung by the first finger to touch. The damping is then ramped to zero over
     /// `damping_ramp` before the gravity-free control run and the gravity runs.
-    /// Default: `None`.
+    /// Default: `None`: it leaves the traced grip nearly balanced (median least push at the end
+    /// of the closing 0.4 weights, `physics_sweep hand=armar3 per_cell=3 fixture=0 tau=0.01`,
+    /// against 11 clamped) but holds no more (`physics_sweep per_cell=5 fixture=0 tau=0.01
+    /// spring=0.2`: Barrett 38/79, ARMAR-III 13/80; the same spring undamped 38/79, 12/80; τ =
+    /// 3 ms 39/79, 12/80; `hand=armar3 per_cell=3`, 7/48 with the defaults: τ = 1, 3, 10, 30,
+    /// 100 ms 7, 7, 6, 7, 7/48, with `spring` 0.2, 0.4, 1 rad 8, 5, 1/48, with `squeeze` 0.1,
+    /// 0.2 0/48, 4/48, with 1 ms steps and 100 or 300 Hz contacts 10/48, 9/48). Where the
+    /// damped closing leaves the object (`physics_damped` example, τ = 10 ms, 5 grasps per
+    /// cell; held/checked Barrett, ARMAR-III): pushed out of the grip 0/18, 0/30; still
+    /// pressed but driven on by the grip alone once undamped 19/39, 4/42; settled 20/22, 7/8.
+    /// The check fails where the simulated actuation (equal effort shares, position targets
+    /// past the touch) has no equilibrium near the grasp, not where a settled grip meets gravity.
     pub closing_damping: Option<f64>,
     /// With `closing_damping`: time (s) over which the damping rate falls linearly from `1 / τ`
     /// to zero after `settle`. Default: 0.1.
