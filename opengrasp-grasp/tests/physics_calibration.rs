@@ -538,7 +538,7 @@ fn damped_closing_centres_an_offset_box_between_equal_pads() {
     assert!(damped.grip_rotation < 5e-3 && !damped.grip_escapes, "{damped:?}");
     assert!(damped.release_push < 0.02, "{damped:?}");
     // Held in all six directions: along the pads (±x) and the approach (±z) friction carries
-    // the weight to 0.1 µm (4 µm undamped); across them (±y) the box moves m g over the two
+    // the weight to 0.1 µm (44 µm undamped); across them (±y) the box moves m g over the two
     // springs' 2 F / θ = 1333 N/m, 0.74 mm, and the pads sink into the soft contacts a little
     // (measured 0.90 mm).
     assert_eq!(damped.results, vec![HoldResult::Held; 6], "{damped:?}");
