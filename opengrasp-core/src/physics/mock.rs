@@ -224,6 +224,12 @@ impl PhysicsEngine for MockBackend {
     }
 
     /// Validated, then ignored (the mock has no dynamics).
+    fn set_object_damping(&mut self, object: ObjectId, linear: f64, angular: f64) -> Result<()> {
+        self.object(object)?;
+        super::check_damping(linear, angular)
+    }
+
+    /// Validated, then ignored (the mock has no dynamics).
     fn apply_object_impulse(&mut self, object: ObjectId, impulse: Vector3<f64>, point: Point3<f64>) -> Result<()> {
         self.object(object)?;
         check_vec("impulse", &impulse)?;

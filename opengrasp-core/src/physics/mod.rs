@@ -435,6 +435,23 @@ pub trait PhysicsEngine: Send {
         Err(CoreError::Physics { reason: format!("{} cannot clamp objects", self.name()) })
     }
 
+    /// Sets the viscous damping of a free object, as rates (s⁻¹): without other forces its
+    /// linear and angular velocities decay as `exp(−rate t)`, i.e. it feels the force
+    /// `−m · linear · v` and the torque `−I · angular · ω` of a viscous medium (time constant
+    /// `τ = 1 / rate`; viscous coefficient `c = m / τ`). Zeros (the initial state) remove it.
+    /// A hand closing on a heavily damped object moves it quasi-statically to where the
+    /// fingers' forces balance, as a table's friction lets it slide.
+    ///
+    /// # Errors
+    /// [`CoreError::InvalidHandle`] for an unknown object, [`CoreError::InvalidParameter`] for a
+    /// negative or non-finite rate, [`CoreError::Physics`] if the backend cannot damp objects
+    /// (the default).
+    fn set_object_damping(&mut self, object: ObjectId, linear: f64, angular: f64) -> Result<()> {
+        check_damping(linear, angular)?;
+        let _ = object;
+        Err(CoreError::Physics { reason: format!("{} cannot damp objects", self.name()) })
+    }
+
     /// Applies an instantaneous impulse (N·s) at a world point of an object.
     ///
     /// # Errors
@@ -538,6 +555,13 @@ pub(crate) fn advance_reference(reference: f64, target: JointTarget, vmax: f64, 
         JointTarget::Effort(f) => reference + f.signum() * vmax * dt,
     };
     next.clamp(limits.0, limits.1)
+}
+
+/// Checks object damping rates (finite, >= 0).
+pub(crate) fn check_damping(linear: f64, angular: f64) -> Result<()> {
+    let ok = |v: f64| v.is_finite() && v >= 0.0;
+    check_param("linear damping", linear, ok(linear), "must be finite and >= 0")?;
+    check_param("angular damping", angular, ok(angular), "must be finite and >= 0")
 }
 
 /// Checks a motor force limit (finite, >= 0).

@@ -56,7 +56,7 @@ pub use hand_data::hand_info;
 use hand_data::{hand_data, hand_radius, HandData};
 pub use options::EvaluatorOptions;
 pub use physics::{physics_check, physics_check_with, HoldResult, PhysicsCheckOptions, PhysicsOutcome};
-pub use release::{fixture_wrench, release_gradually};
+pub use release::{fixture_wrench, release_gradually, undamp_gradually};
 pub use static_hold::{static_hold, ActuatorLoad, StaticDirection, StaticHoldOptions, StaticHoldOutcome};
 
 /// How an evaluation ended.

@@ -26,7 +26,8 @@ use super::{EvaluationStatus, GraspEvaluation};
 /// 5/48, `spring = 1` 1/48; `effort = 1` at 1 kHz 0/48 (33 diverged; 2 without the fixture),
 /// `effort = 0.3` 0/48; thumb efforts 15 N·m instead of 5 N·m 7/48, fingers 1.67 N·m 6/48 (at
 /// 30 Hz the contacts' softness, not the caps, sets the grip forces); the joints locked at the
-/// release (position targets at the simulated positions, or 0.05 rad past them) 5/48, 4/48.
+/// release (position targets at the simulated positions, or 0.05 rad past them) 5/48, 4/48;
+/// a quasi-static closing on the free, damped object ([`Self::closing_damping`]) 6–8/48.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PhysicsCheckOptions {
     /// Directions of gravity tried one after the other (object frame), each in its own
@@ -146,6 +147,29 @@ pub struct PhysicsCheckOptions {
     /// iterations). Traced, the grips that fail are out of balance by many times the weight,
     /// which no release rate can fix.
     pub release: f64,
+    /// `Some(τ)`: quasi-static closing on a free object (needs `fixture` off). While the
+    /// fingers squeeze during `settle`, the object is free but feels viscous damping of time
+    /// constant `τ` (s): the force `−(m / τ) v` and the torque `−(I / τ) ω`, as if it rested in
+    /// a viscous medium (or slid on a table) while a real hand closes, so it drifts at about
+    /// `F τ / m` under a net grip force `F` to where the finger forces balance, instead of
+    /// being flung by the first finger to touch. The damping is then ramped to zero over
+    /// `damping_ramp` before the gravity-free control run and the gravity runs.
+    /// Default: `None`: it leaves the traced grip nearly balanced (median least push at the end
+    /// of the closing 0.4 weights, `physics_sweep hand=armar3 per_cell=3 fixture=0 tau=0.01`,
+    /// against 11 clamped) but holds no more (`physics_sweep per_cell=5 fixture=0 tau=0.01
+    /// spring=0.2`: Barrett 38/79, ARMAR-III 13/80; the same spring undamped 38/79, 12/80; τ =
+    /// 3 ms 39/79, 12/80; `hand=armar3 per_cell=3`, 7/48 with the defaults: τ = 1, 3, 10, 30,
+    /// 100 ms 7, 7, 6, 7, 7/48, with `spring` 0.2, 0.4, 1 rad 8, 5, 1/48, with `squeeze` 0.1,
+    /// 0.2 0/48, 4/48, with 1 ms steps and 100 or 300 Hz contacts 10/48, 9/48). Where the
+    /// damped closing leaves the object (`physics_damped` example, τ = 10 ms, 5 grasps per
+    /// cell; held/checked Barrett, ARMAR-III): pushed out of the grip 0/18, 0/30; still
+    /// pressed but driven on by the grip alone once undamped 19/39, 4/42; settled 20/22, 7/8.
+    /// The check fails where the simulated actuation (equal effort shares, position targets
+    /// past the touch) has no equilibrium near the grasp, not where a settled grip meets gravity.
+    pub closing_damping: Option<f64>,
+    /// With `closing_damping`: time (s) over which the damping rate falls linearly from `1 / τ`
+    /// to zero after `settle`. Default: 0.1.
+    pub damping_ramp: f64,
     /// An object that is not held counts as dropped if gravity moved it farther than this
     /// (m), as slipped (it moved in the hand but stayed near it) otherwise. Default: 0.1.
     pub drop_translation: f64,
@@ -189,6 +213,8 @@ impl Default for PhysicsCheckOptions {
             drop_translation: 0.1,
             fixture: true,
             release: 0.0,
+            closing_damping: None,
+            damping_ramp: 0.1,
             physics: PhysicsOptions {
                 contact_frequency: 30.0,
                 solver_iterations: 16,
@@ -218,7 +244,12 @@ impl PhysicsCheckOptions {
         ] {
             crate::planners::check_positive(name, v)?;
         }
-        for (name, v) in [("settle", self.settle), ("squeeze", self.squeeze), ("release", self.release)] {
+        for (name, v) in [
+            ("settle", self.settle),
+            ("squeeze", self.squeeze),
+            ("release", self.release),
+            ("damping_ramp", self.damping_ramp),
+        ] {
             if !(v.is_finite() && v >= 0.0) {
                 return Err(GraspError::InvalidParameter { name, reason: format!("must be finite and >= 0, got {v}") });
             }
@@ -235,6 +266,15 @@ impl PhysicsCheckOptions {
                 return Err(GraspError::InvalidParameter {
                     name: "spring",
                     reason: "excludes `effort` and `balanced` (only one actuator model can drive the fingers)".into(),
+                });
+            }
+        }
+        if let Some(tau) = self.closing_damping {
+            crate::planners::check_positive("closing_damping", tau)?;
+            if self.fixture {
+                return Err(GraspError::InvalidParameter {
+                    name: "closing_damping",
+                    reason: "needs `fixture` off (the damped object is free while the fingers close)".into(),
                 });
             }
         }
@@ -405,6 +445,9 @@ pub fn physics_check_with<E: PhysicsEngine>(
         if options.fixture {
             engine.set_object_fixed(oid, true)?;
         }
+        if let Some(tau) = options.closing_damping {
+            engine.set_object_damping(oid, 1.0 / tau, 1.0 / tau)?;
+        }
         engine.step_n(settle_steps, dt)?;
         let imbalance = super::release_imbalance(&engine, hand, rid, oid, object, evaluation)?;
         if let Some(grip) = &grip {
@@ -412,6 +455,9 @@ pub fn physics_check_with<E: PhysicsEngine>(
         }
         if options.fixture {
             super::release::release_gradually(&mut engine, oid, object, options.release, dt)?;
+        }
+        if let Some(tau) = options.closing_damping {
+            super::release::undamp_gradually(&mut engine, oid, 1.0 / tau, options.damping_ramp, dt)?;
         }
         Ok((engine, imbalance))
     };

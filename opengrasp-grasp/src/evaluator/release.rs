@@ -1,6 +1,8 @@
-//! A gradual fixture release ([`PhysicsCheckOptions::release`]): the wrench the fixture put on
-//! the clamped object is applied to the freed object and ramped to zero, so the squeezing
-//! fingers take the load over quasi-statically instead of as a step.
+//! Handing the object to the grip gradually: a fixture release
+//! ([`PhysicsCheckOptions::release`]: the wrench the fixture put on the clamped object is
+//! applied to the freed object and ramped to zero, so the squeezing fingers take the load over
+//! quasi-statically instead of as a step), and the end of a damped closing
+//! ([`PhysicsCheckOptions::closing_damping`]: the object's viscous damping ramped to zero).
 
 use nalgebra::{Matrix3, Vector3};
 use opengrasp_core::object::ObjectModel;
@@ -65,5 +67,29 @@ pub fn release_gradually<E: PhysicsEngine>(
         engine.step(dt)?;
     }
     engine.set_object_force(oid, Vector3::zeros(), Vector3::zeros())?;
+    Ok(())
+}
+
+/// Ramps the viscous damping of the free object `oid` ([`PhysicsEngine::set_object_damping`],
+/// linear and angular `rate`, s⁻¹) linearly down to zero over `duration` (steps of `dt`), so
+/// the object the damping kept quasi-static is handed to the grip's own forces gradually; then
+/// no damping is left. A `duration` of zero removes it at once.
+///
+/// # Errors
+/// [`crate::GraspError::Core`] from the engine.
+pub fn undamp_gradually<E: PhysicsEngine>(
+    engine: &mut E,
+    oid: ObjectId,
+    rate: f64,
+    duration: f64,
+    dt: f64,
+) -> Result<()> {
+    let steps = (duration / dt).ceil() as usize;
+    for k in 0..steps {
+        let r = rate * (1.0 - (k as f64 + 0.5) / steps as f64);
+        engine.set_object_damping(oid, r, r)?;
+        engine.step(dt)?;
+    }
+    engine.set_object_damping(oid, 0.0, 0.0)?;
     Ok(())
 }

@@ -446,6 +446,18 @@ impl PhysicsEngine for RapierBackend {
         Ok(())
     }
 
+    /// Rapier's own body damping (implicit: each substep `h` divides the velocities by
+    /// `1 + h · rate`, stable for any rate).
+    fn set_object_damping(&mut self, object: ObjectId, linear: f64, angular: f64) -> Result<()> {
+        let body = self.object(object)?.body;
+        super::check_damping(linear, angular)?;
+        let b = &mut self.bodies[body];
+        b.set_linear_damping(linear);
+        b.set_angular_damping(angular);
+        b.wake_up(true);
+        Ok(())
+    }
+
     fn apply_object_impulse(&mut self, object: ObjectId, impulse: Vector3<f64>, point: Point3<f64>) -> Result<()> {
         let body = self.object(object)?.body;
         check_vec("impulse", &impulse)?;
