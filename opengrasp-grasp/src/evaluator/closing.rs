@@ -3,8 +3,9 @@
 //!
 //! Each iteration needs, per active closing dof, the step `min_l (d_l − touch/2) / R_l` over
 //! its links and whether `min_l d_l ≤ touch`; `d_l` is the distance to the object's convex
-//! hull, or the exact distance once a link is within [`HULL_SWITCH_DISTANCE`] of the hull of a
-//! non-convex object. Both are minima, so a link whose *lower bound* already puts it above the
+//! hull, or the exact distance once one of the dof's links is within [`HULL_SWITCH_DISTANCE`]
+//! of the hull of a non-convex object (the other dofs step by their hull distances, lower
+//! bounds of the exact ones). Both are minima, so a link whose *lower bound* already puts it above the
 //! minimum of the links queried cannot change them, and a link whose bound exceeds the touch
 //! distance cannot stop its finger. The lower bounds are:
 //! - the last distance known minus `Σ_c R_{c,l} |Δq_c|` (the speed bounds of the closing dofs
@@ -23,9 +24,12 @@ use opengrasp_core::collision::{CollisionWorld, NearestTriangles};
 use super::{GraspEvaluator, HULL_SWITCH_DISTANCE};
 use crate::error::Result;
 
-/// Subtracted from every propagated lower bound (m): room for the rounding of the distance
-/// queries (far below the 20 % slack of the speed bounds).
+/// Subtracted from every propagated lower bound (m), plus [`BOUND_RELATIVE`] of it: room for
+/// the rounding of the distance queries and GJK's tolerance (relative 4.7e-8).
 const BOUND_MARGIN: f64 = 1e-9;
+
+/// The part of [`BOUND_MARGIN`] proportional to the distance.
+const BOUND_RELATIVE: f64 = 1e-7;
 
 /// Per-link buffers of [`GraspEvaluator::close`], reused across its iterations.
 struct Buffers {
@@ -120,6 +124,7 @@ impl GraspEvaluator {
         let robot = self.hand.robot();
         let n = robot.links().len();
         let mut active: Vec<bool> = vec![true; self.data.closing.len()];
+        let mut near_dofs: Vec<bool> = vec![false; self.data.closing.len()];
         // Nothing is known before the first query.
         let mut b = Buffers {
             hull: vec![f64::NEG_INFINITY; n],
@@ -147,20 +152,21 @@ impl GraspEvaluator {
             hull.clone_from(&b.hull_lower);
             self.refine(&self.hull_world, &q, &active, force, &mut hull, &mut b)?;
             b.hull = hull;
-            let near = !self.convex
-                && self
-                    .data
-                    .closing
-                    .iter()
-                    .zip(&active)
-                    .filter(|(_, &act)| act)
-                    .any(|(c, _)| c.links.iter().any(|&l| b.hull[l] <= HULL_SWITCH_DISTANCE));
+            // Only the fingers with a link near the hull read exact distances; the others step
+            // by their hull distances (lower bounds of the exact ones, so still safe).
+            for ((n, c), &act) in near_dofs.iter_mut().zip(&self.data.closing).zip(&active) {
+                *n = act && !self.convex && c.links.iter().any(|&l| b.hull[l] <= HULL_SWITCH_DISTANCE);
+            }
+            let near = near_dofs.iter().any(|&x| x);
             let mut dist = std::mem::take(&mut b.dist);
             if near {
-                for ((d, h), e) in dist.iter_mut().zip(&b.hull).zip(&b.exact_lower) {
-                    *d = h.max(*e);
+                dist.clone_from(&b.hull);
+                for (c, _) in self.data.closing.iter().zip(&near_dofs).filter(|(_, &n)| n) {
+                    for &l in &c.links {
+                        dist[l] = b.hull[l].max(b.exact_lower[l]);
+                    }
                 }
-                self.refine(&self.world, &q, &active, o.touch_distance, &mut dist, &mut b)?;
+                self.refine(&self.world, &q, &near_dofs, o.touch_distance, &mut dist, &mut b)?;
             } else {
                 dist.clone_from(&b.hull);
             }
@@ -193,7 +199,8 @@ impl GraspEvaluator {
             }
             // The bounds at the new configuration (a link that did not move keeps its
             // distances exactly: same pose, same query).
-            let lower = |x: f64, drop: f64| if drop == 0.0 { x } else { x - drop - BOUND_MARGIN };
+            let lower =
+                |x: f64, drop: f64| if drop == 0.0 { x } else { x - drop - BOUND_MARGIN - BOUND_RELATIVE * x.abs() };
             let links = b.exact_lower.iter_mut().zip(b.hull_lower.iter_mut()).zip(&b.hull).zip(&b.drop).zip(&dist);
             for ((((exact, hull_lower), &hull), &drop), &d) in links {
                 let known = if near { exact.max(d) } else { *exact };
@@ -300,8 +307,16 @@ mod tests {
                 c.links.iter().for_each(|&l| moving[l] = true);
             }
             ev.hull_world.selected_link_distances_into(ev.robot, &q, &moving, &mut dist).unwrap();
-            if !ev.convex && moving.iter().zip(&dist).any(|(&m, &d)| m && d <= HULL_SWITCH_DISTANCE) {
-                refine_exact_oracle(ev, &q, &active, &mut dist, &mut known, &mut near, &mut exact);
+            // The fingers with a link near the hull.
+            let near_dofs: Vec<bool> = ev
+                .data
+                .closing
+                .iter()
+                .zip(&active)
+                .map(|(c, &act)| act && !ev.convex && c.links.iter().any(|&l| dist[l] <= HULL_SWITCH_DISTANCE))
+                .collect();
+            if near_dofs.iter().any(|&x| x) {
+                refine_exact_oracle(ev, &q, &near_dofs, &mut dist, &mut known, &mut near, &mut exact);
             }
             for (c, act) in ev.data.closing.iter().zip(active.iter_mut()) {
                 if !*act {
