@@ -94,10 +94,12 @@ fn balanced_grip_holds_the_barrett_salt_can_wrap_in_all_six_directions() {
         ..defaults
     };
     // Balanced stall torques (1 kHz contacts): held in every direction, gravity moving the
-    // can by at most 2.4 mm (measured 0.3–2.4 mm) relative to the gravity-free control run.
+    // can by at most 4.2 mm (measured 0.6–4.2 mm since the closing's exact speed bounds; it
+    // was 0.3–2.4 mm from the slightly different touch of the 20 %-slack bounds) relative to
+    // the gravity-free control run.
     let out = physics_check(&hand, &object, &e, &options).unwrap();
     assert_eq!(out.results, vec![HoldResult::Held; 6], "{out:?}");
-    assert!(out.translations.iter().all(|&t| t < 0.004), "{out:?}");
+    assert!(out.translations.iter().all(|&t| t < 0.005), "{out:?}");
     // Deterministic to the last bit.
     assert_eq!(physics_check(&hand, &object, &e, &options).unwrap(), out);
     // Without friction nothing squeezes the can along its axis: the grip's contact forces are

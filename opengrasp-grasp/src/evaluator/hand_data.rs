@@ -120,8 +120,11 @@ pub(super) fn hand_data(hand: &Hand) -> Result<HandData> {
     // Aperture: extent of the hand's geometry along the closing axis at the open preshape.
     let max_aperture = aperture(robot, fk.as_slice(), &to_palm, &closing);
     // Closing dofs: the links each moves, with a bound on each link's speed per unit of dof
-    // motion (sum over the joints the dof drives of |multiplier| × the link's farthest reach
-    // from that joint's axis point; 1 per unit for prismatic joints), plus 20 % slack.
+    // motion: the sum over the joints the dof drives of |multiplier| × the link's farthest
+    // reach from that joint's axis point (1 per unit for prismatic joints). The reach is
+    // bounded for every configuration along the kinematic chain (see `chain_reach`); only
+    // below a prismatic joint, where no such bound exists, is it the open hand's reach plus
+    // 20 % slack.
     let mut closing_dofs = Vec::new();
     for (d, &vd) in v.iter().enumerate() {
         if vd == 0.0 {
@@ -137,15 +140,20 @@ pub(super) fn hand_data(hand: &Hand) -> Result<HandData> {
             }
             let origin = fk.as_slice()[joint.child.0].translation.vector;
             for (l, link) in robot.links().iter().enumerate() {
-                if link.collisions.is_empty() || !robot.chain_to(LinkId(l)).contains(&jid) {
+                let chain = robot.chain_to(LinkId(l));
+                let Some(at) = chain.iter().position(|&j| j == jid) else { continue };
+                if link.collisions.is_empty() {
                     continue;
                 }
-                let mut reach: f64 = 0.0;
-                for s in &link.collisions {
-                    for c in s.aabb_corners() {
-                        reach = reach.max(((fk.as_slice()[l] * c).coords - origin).norm());
+                let reach = chain_reach(robot, &chain[at + 1..], link).unwrap_or_else(|| {
+                    let mut reach: f64 = 0.0;
+                    for s in &link.collisions {
+                        for c in s.aabb_corners() {
+                            reach = reach.max(((fk.as_slice()[l] * c).coords - origin).norm());
+                        }
                     }
-                }
+                    1.2 * reach
+                });
                 let speed = m.abs() * if joint.kind == JointKind::Prismatic { 1.0 } else { reach };
                 match links.iter().position(|&x| x == l) {
                     Some(k) => bounds[k] += speed,
@@ -157,7 +165,7 @@ pub(super) fn hand_data(hand: &Hand) -> Result<HandData> {
             }
         }
         if !links.is_empty() {
-            let speed_bounds = bounds.iter().map(|b| (b * 1.2).max(1e-6)).collect();
+            let speed_bounds = bounds.iter().map(|b| b.max(1e-6)).collect();
             closing_dofs.push(ClosingDof { dof: d, velocity: vd, links, speed_bounds });
         }
     }
@@ -188,6 +196,30 @@ pub(super) fn hand_data(hand: &Hand) -> Result<HandData> {
     Ok(HandData { info, root_from_palm, preshape_q, closing: closing_dofs, link_finger, palm_links })
 }
 
+/// A bound, valid in every configuration, on the distance from a joint's axis point (its
+/// child frame's origin) to the collision geometry of `link`, the joints `below` (after
+/// that joint on the chain to `link`) all revolute, continuous or fixed: each rotates its
+/// child frame about that frame's origin, which thus stays at the joint origin's offset from
+/// the previous one, so the triangle inequality bounds the distance by the sum of those
+/// offsets and the link's farthest bounding-box corner from its own frame origin. `None` if
+/// a joint below is prismatic (its offset is not fixed).
+fn chain_reach(
+    robot: &opengrasp_core::model::Robot,
+    below: &[opengrasp_core::model::JointId],
+    link: &opengrasp_core::model::Link,
+) -> Option<f64> {
+    let mut reach = 0.0;
+    for &j in below {
+        let joint = robot.joint(j);
+        if joint.kind == JointKind::Prismatic {
+            return None;
+        }
+        reach += joint.origin.translation.vector.norm();
+    }
+    let corner = link.collisions.iter().flat_map(|s| s.aabb_corners()).map(|c| c.coords.norm()).fold(0.0, f64::max);
+    Some(reach + corner)
+}
+
 /// Extent (m) of the robot's collision geometry (link poses `fk` in the root frame) along
 /// `axis` of the palm frame (`to_palm` maps root to palm coordinates).
 fn aperture(
@@ -210,5 +242,82 @@ fn aperture(
         hi - lo
     } else {
         0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use opengrasp_assets::hands;
+    use opengrasp_core::kinematics::forward_kinematics;
+
+    use super::hand_data;
+
+    /// The Barrett's flexion bounds are the phalanges' exact reaches (no slack): the proximal
+    /// box (18 × 24 mm, from 16 to 70 mm along the finger) reaches its far corner at
+    /// √(9² + 12² + 70²) mm from the flexion axis point; the distal one (16.2 × 21.6 mm, 10 to
+    /// 58 mm) moves with the flexion (70 mm on, then its own far corner) and with the coupled
+    /// distal joint (48/140 of it).
+    #[test]
+    fn barrett_speed_bounds_are_the_phalanx_reaches() {
+        let hand = hands::barrett();
+        let data = hand_data(&hand).unwrap();
+        let names: Vec<&str> = hand.robot().links().iter().map(|l| l.name.as_str()).collect();
+        let proximal = (0.009f64.powi(2) + 0.012f64.powi(2) + 0.07f64.powi(2)).sqrt();
+        let distal = (0.0081f64.powi(2) + 0.0108f64.powi(2) + 0.058f64.powi(2)).sqrt();
+        let mut fingers = 0;
+        for c in &data.closing {
+            for (&l, &r) in c.links.iter().zip(&c.speed_bounds) {
+                let expected = if names[l].ends_with("_proximal") {
+                    proximal
+                } else if names[l].ends_with("_distal") {
+                    0.07 + distal + 48.0 / 140.0 * distal
+                } else {
+                    continue;
+                };
+                assert!((r - expected).abs() < 1e-12, "{}: {r} vs {expected}", names[l]);
+                fingers += 1;
+            }
+        }
+        assert_eq!(fingers, 6, "three fingers of two phalanges");
+    }
+
+    /// The bounds hold in every configuration, not only the open one: on both stock hands, at
+    /// configurations spread over the joint limits, no bounding-box corner of a link moves
+    /// faster per unit of its closing dof than the link's bound.
+    #[test]
+    fn speed_bounds_hold_across_the_joint_limits() {
+        for hand in [hands::barrett(), hands::armar3_hand()] {
+            let robot = hand.robot();
+            let data = hand_data(&hand).unwrap();
+            let n = robot.dof();
+            let mut worst: f64 = 0.0;
+            for k in 0..40 {
+                let mut q: Vec<f64> = (0..n)
+                    .map(|d| {
+                        let (lo, hi) = robot.dof_limits(d);
+                        let t = ((k * 7 + d * 13) % 40) as f64 / 39.0;
+                        lo + t * (hi - lo)
+                    })
+                    .collect();
+                robot.clamp_configuration(&mut q);
+                for c in &data.closing {
+                    let h = 1e-6;
+                    let mut q2 = q.clone();
+                    q2[c.dof] += if q[c.dof] + h <= robot.dof_limits(c.dof).1 { h } else { -h };
+                    let (a, b) = (forward_kinematics(robot, &q).unwrap(), forward_kinematics(robot, &q2).unwrap());
+                    for (&l, &r) in c.links.iter().zip(&c.speed_bounds) {
+                        for s in &robot.links()[l].collisions {
+                            for p in s.aabb_corners() {
+                                let speed = (a.as_slice()[l] * p - b.as_slice()[l] * p).norm() / h;
+                                worst = worst.max(speed / r);
+                            }
+                        }
+                    }
+                }
+            }
+            assert!(worst <= 1.0 + 1e-6, "{}: a corner moves {worst} × its bound", hand.name());
+            // The bounds are tight somewhere (a straight finger's tip).
+            assert!(worst > 0.9, "{}: bounds loose everywhere ({worst})", hand.name());
+        }
     }
 }
