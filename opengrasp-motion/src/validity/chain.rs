@@ -186,9 +186,9 @@ impl Chain {
     /// The world poses of every frame for group values `q` into `out` (frame 0 the identity).
     #[inline]
     pub fn frames(&self, q: &[f64], out: &mut Vec<Mat34>) {
-        out.clear();
-        out.push(IDENTITY);
-        for f in &self.frames {
+        out.resize(self.frames.len() + 1, IDENTITY);
+        out[0] = IDENTITY;
+        for (at, f) in (1..out.len()).zip(&self.frames) {
             let m = match f.place {
                 Place::World(m) => m,
                 Place::Block(0) => compose_block::<0>(&out[f.parent], &f.fixed),
@@ -196,7 +196,7 @@ impl Chain {
                 Place::Block(_) => compose_block::<2>(&out[f.parent], &f.fixed),
                 Place::General => compose(&out[f.parent], &f.fixed),
             };
-            out.push(f.moved(&m, q[f.dof]));
+            out[at] = f.moved(&m, q[f.dof]);
         }
     }
 
