@@ -60,6 +60,48 @@ struct Frame {
     dof: usize,
     scale: f64,
     offset: f64,
+    /// How [`Chain::frames`] composes the parent frame with `fixed`.
+    place: Place,
+}
+
+/// How a frame's parent pose is composed with its fixed transform: the same numbers as
+/// [`compose`], skipping products with the transform's exact zeros.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Place {
+    /// The parent is the world (the identity): `compose(IDENTITY, fixed)`, computed once.
+    World(Mat34),
+    /// The fixed rotation leaves coordinate axis `e_i` alone (row and column `i` zero off the
+    /// diagonal, as URDF origins turned about one axis are): [`compose_block`].
+    Block(usize),
+    /// Any other fixed transform: [`compose`].
+    General,
+}
+
+impl Place {
+    fn of(parent: usize, fixed: &Mat34) -> Self {
+        if parent == 0 {
+            return Self::World(compose(&IDENTITY, fixed));
+        }
+        let block = (0..3).find(|&i| (0..3).all(|m| m == i || (fixed[4 * i + m] == 0.0 && fixed[4 * m + i] == 0.0)));
+        block.map_or(Self::General, Self::Block)
+    }
+}
+
+/// [`compose`] for a `b` whose rotation has row and column `I` zero off the diagonal: the
+/// products with those exact zeros dropped (adding `±0` to a sum leaves its value), so every
+/// entry equals [`compose`]'s (up to the sign of a zero entry).
+#[inline(always)]
+fn compose_block<const I: usize>(a: &Mat34, b: &Mat34) -> Mat34 {
+    let (i, j, k) = (I, (I + 1) % 3, (I + 2) % 3);
+    let mut out = [0.0; 12];
+    for r in (0..12).step_by(4) {
+        let (ai, aj, ak) = (a[r + i], a[r + j], a[r + k]);
+        out[r + i] = ai * b[4 * i + i];
+        out[r + j] = aj * b[4 * j + j] + ak * b[4 * k + j];
+        out[r + k] = aj * b[4 * j + k] + ak * b[4 * k + k];
+        out[r + 3] = a[r] * b[3] + a[r + 1] * b[7] + a[r + 2] * b[11] + a[r + 3];
+    }
+    out
 }
 
 /// The compiled kinematics: frame 0 is the world (fixed), frames `1..` move.
@@ -105,6 +147,7 @@ impl Chain {
                         dof: gi,
                         scale,
                         offset,
+                        place: Place::of(pf, &at_origin),
                     });
                     (frames.len(), IDENTITY)
                 }
@@ -143,11 +186,17 @@ impl Chain {
     /// The world poses of every frame for group values `q` into `out` (frame 0 the identity).
     #[inline]
     pub fn frames(&self, q: &[f64], out: &mut Vec<Mat34>) {
-        out.clear();
-        out.push(IDENTITY);
-        for f in &self.frames {
-            let m = compose(&out[f.parent], &f.fixed);
-            out.push(f.moved(&m, q[f.dof]));
+        out.resize(self.frames.len() + 1, IDENTITY);
+        out[0] = IDENTITY;
+        for (at, f) in (1..out.len()).zip(&self.frames) {
+            let m = match f.place {
+                Place::World(m) => m,
+                Place::Block(0) => compose_block::<0>(&out[f.parent], &f.fixed),
+                Place::Block(1) => compose_block::<1>(&out[f.parent], &f.fixed),
+                Place::Block(_) => compose_block::<2>(&out[f.parent], &f.fixed),
+                Place::General => compose(&out[f.parent], &f.fixed),
+            };
+            out[at] = f.moved(&m, q[f.dof]);
         }
     }
 

@@ -3,16 +3,16 @@
 //! each link culled first by its bounding sphere. No allocation per query: buffers live in a
 //! per-thread scratch.
 
-use std::cell::RefCell;
-
 use nalgebra::{Isometry3, Point3};
 
-use super::chain::{Lanes, Mat34};
+use super::chain::Mat34;
 use super::ObstacleShape;
 
 mod lanes;
+mod scratch;
 
 pub(super) use lanes::{and_not, any_lane, LaneCentres, Mask};
+pub(super) use scratch::{with_scratch, Centres, Scratch};
 
 /// An obstacle in the form the kernels use: world-to-local rotation (row-major), centre and
 /// the closed-form shape.
@@ -134,57 +134,6 @@ fn capsule_distance((lx, ly, lz): (f64, f64, f64), radius: f64, half_length: f64
     (lx * lx + ly * ly + dz * dz).sqrt() - radius
 }
 
-/// Sphere centres of one state, struct of arrays, plus each link's bounding-sphere centre.
-#[derive(Debug, Default)]
-pub(super) struct Centres {
-    x: Vec<f64>,
-    y: Vec<f64>,
-    z: Vec<f64>,
-    link: Vec<[f64; 3]>,
-    /// Cluster bounding-sphere centres (placed with their link's spheres).
-    cluster: Vec<[f64; 3]>,
-    /// Whether each link's cluster centres are placed yet, and each cluster's spheres (both
-    /// are placed when first needed: most clusters are culled by their bounding sphere).
-    placed: Vec<bool>,
-    filled: Vec<bool>,
-    /// Whether each link's bounding-sphere centre is placed yet.
-    linked: Vec<bool>,
-}
-
-/// Per-thread buffers of the sphere model's state checks.
-#[derive(Debug, Default)]
-pub(super) struct Scratch {
-    pub frames: Vec<Mat34>,
-    pub centres: Centres,
-    pub coarse: Centres,
-    pub q: Vec<f64>,
-    /// Buffers of the batched kernels: frame poses, fine and coarse centres, group values
-    /// per lane, and the order of a motion's states.
-    pub lane_frames: Vec<[Lanes; 12]>,
-    pub lane_centres: LaneCentres,
-    pub lane_coarse: LaneCentres,
-    pub lane_q: Vec<Lanes>,
-    pub order: Vec<usize>,
-    /// Buffers of the certified motion checks: `|Δq|` per step, and per state word and test
-    /// one bit per state the test is certified at.
-    pub per_step: Vec<f64>,
-    pub certified: Vec<u64>,
-    /// Per word of `certified`, the states every test is certified at.
-    pub all: Vec<u64>,
-}
-
-thread_local! {
-    static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
-}
-
-/// Runs `f` with this thread's scratch (fresh buffers on re-entrance).
-pub(super) fn with_scratch<R>(f: impl FnOnce(&mut Scratch) -> R) -> R {
-    SCRATCH.with(|cell| match cell.try_borrow_mut() {
-        Ok(mut s) => f(&mut s),
-        Err(_) => f(&mut Scratch::default()),
-    })
-}
-
 /// The spheres of a [`SphereWorld`](super::SphereWorld) as arrays, grouped by link, with one
 /// bounding sphere per link and the boxes in kernel form.
 #[derive(Clone, Debug)]
@@ -261,9 +210,11 @@ impl SphereSoa {
     /// frames; the spheres themselves are placed per link when a test first needs them.
     pub fn begin(&self, frames: &[Mat34], out: &mut Centres) {
         self.begin_lazy(out);
-        out.linked.fill(true);
-        for ((&f, lc), at) in self.frame.iter().zip(&self.link_centre).zip(&mut out.link) {
+        let epoch = out.epoch;
+        let links = self.frame.iter().zip(&self.link_centre).zip(&mut out.link).zip(&mut out.linked);
+        for (((&f, lc), at), linked) in links {
             *at = transform(&frames[f], lc.x, lc.y, lc.z);
+            *linked = epoch;
         }
     }
 
@@ -272,25 +223,14 @@ impl SphereSoa {
     /// [`SphereSoa::link_gap`] and [`SphereSoa::pair_gap`] (and their `_clear` forms), not
     /// [`SphereSoa::link_near`] or [`SphereSoa::link_far`].
     pub fn begin_lazy(&self, out: &mut Centres) {
-        let n = self.x.len();
-        out.x.resize(n, 0.0);
-        out.y.resize(n, 0.0);
-        out.z.resize(n, 0.0);
-        out.link.resize(self.ranges.len(), [0.0; 3]);
-        out.cluster.resize(self.clusters.len(), [0.0; 3]);
-        for flags in [&mut out.placed, &mut out.linked] {
-            flags.clear();
-            flags.resize(self.ranges.len(), false);
-        }
-        out.filled.clear();
-        out.filled.resize(self.clusters.len(), false);
+        out.restart(self.x.len(), self.ranges.len(), self.clusters.len());
     }
 
     /// Link `k`'s bounding-sphere centre, placed if not yet done.
     #[inline(always)]
     fn link_at(&self, frames: &[Mat34], out: &mut Centres, k: usize) -> [f64; 3] {
-        if !out.linked[k] {
-            out.linked[k] = true;
+        if out.linked[k] != out.epoch {
+            out.linked[k] = out.epoch;
             let lc = &self.link_centre[k];
             out.link[k] = transform(&frames[self.frame[k]], lc.x, lc.y, lc.z);
         }
@@ -300,10 +240,10 @@ impl SphereSoa {
     /// Places the bounding-sphere centres of link `k`'s clusters if not yet done.
     #[inline]
     fn ensure(&self, frames: &[Mat34], out: &mut Centres, k: usize) {
-        if out.placed[k] {
+        if out.placed[k] == out.epoch {
             return;
         }
-        out.placed[k] = true;
+        out.placed[k] = out.epoch;
         let m = &frames[self.frame[k]];
         let (cs, ce) = self.link_clusters[k];
         for j in cs..ce {
@@ -315,10 +255,10 @@ impl SphereSoa {
     /// Places the spheres of cluster `j` (of link `k`) if not yet done.
     #[inline]
     fn fill(&self, frames: &[Mat34], out: &mut Centres, k: usize, j: usize) {
-        if out.filled[j] {
+        if out.filled[j] == out.epoch {
             return;
         }
-        out.filled[j] = true;
+        out.filled[j] = out.epoch;
         let (s, e) = self.clusters[j];
         let m = &frames[self.frame[k]];
         let (xs, ys, zs) = (&self.x[s..e], &self.y[s..e], &self.z[s..e]);
@@ -376,7 +316,7 @@ impl SphereSoa {
     /// [`SphereSoa::begin`]).
     #[inline]
     pub fn link_near(&self, o: usize, k: usize, c: &Centres) -> bool {
-        debug_assert!(c.linked[k], "link_near after begin_lazy");
+        debug_assert!(c.linked[k] == c.epoch, "link_near after begin_lazy");
         let o = &self.obstacles[o];
         let [lx, ly, lz] = c.link[k];
         let d2 = (lx - o.t[0]).powi(2) + (ly - o.t[1]).powi(2) + (lz - o.t[2]).powi(2);
@@ -420,7 +360,7 @@ impl SphereSoa {
     /// link to the obstacle (after [`SphereSoa::begin`]).
     #[inline(always)]
     pub fn link_far(&self, o: usize, k: usize, c: &Centres) -> Option<f64> {
-        debug_assert!(c.linked[k], "link_far after begin_lazy");
+        debug_assert!(c.linked[k] == c.epoch, "link_far after begin_lazy");
         let o = &self.obstacles[o];
         let [lx, ly, lz] = c.link[k];
         let d2 = (lx - o.t[0]).powi(2) + (ly - o.t[1]).powi(2) + (lz - o.t[2]).powi(2);

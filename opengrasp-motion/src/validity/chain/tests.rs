@@ -7,7 +7,7 @@ use opengrasp_core::model::{samples, JointGroup, JointKind, JointSpec, Link, Lin
 use opengrasp_core::urdf::{self, LoadOptions, Visuals};
 use proptest::prelude::*;
 
-use super::{compose, mat34, Chain, Lanes, Mat34, LANES};
+use super::{compose, mat34, Chain, Lanes, Mat34, Place, LANES};
 
 /// The MotionBenchMaker Panda (fingers fixed: seven joints, all about z).
 fn panda() -> Robot {
@@ -101,6 +101,18 @@ fn the_panda_turns_about_z_and_the_skew_arm_mixes_axes() {
     let (s, _) = chain(&skew_arm());
     let aligned: Vec<_> = s.frames.iter().map(|f| f.aligned).collect();
     assert_eq!(aligned, [Some((0, 1.0)), Some((1, -1.0)), Some((2, 1.0)), Some((0, -1.0)), None, None]);
+}
+
+#[test]
+fn the_panda_origins_turn_about_x_and_the_skew_arm_origins_are_general() {
+    let (p, _) = chain(&panda());
+    let place: Vec<_> = p.frames.iter().skip(1).map(|f| f.place).collect();
+    assert_eq!(place, vec![Place::Block(0); 6]);
+    assert!(matches!(p.frames[0].place, Place::World(_)));
+    // Turned origins, but the follower's (on l2, after j2's frame) is a plain translation.
+    let (s, _) = chain(&skew_arm());
+    let place: Vec<_> = s.frames.iter().skip(1).map(|f| f.place).collect();
+    assert_eq!(place, [Place::General, Place::General, Place::Block(0), Place::General, Place::General]);
 }
 
 #[test]

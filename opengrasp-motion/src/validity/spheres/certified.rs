@@ -7,8 +7,10 @@
 //! pair only the joints that move one link and not the other change their distance (rigid
 //! motions keep distances). So a test that passed with gap `g` at state `i` passes at every
 //! state `j` with `|j − i| · δ < g`, `δ` its bound per step, and is not run there; a state
-//! whose tests are all certified is not computed at all. The verdict and the one-by-one count
-//! are those of checking every state in the default order.
+//! whose tests are all certified is not computed at all. At each computed state the tests
+//! that failed lately (per thread) run first, so a state in collision usually costs one test.
+//! The verdict and the one-by-one count are those of checking every state in the default
+//! order.
 
 use super::SphereWorld;
 use crate::validate::{coarse_to_fine_into, interpolate_into, segment_subdivisions};
@@ -89,6 +91,10 @@ impl SphereWorld {
     /// Inlined: the motion loop calls it for every uncertified test.
     #[inline(always)]
     fn gap_at(&self, test: Test, q: &[f64], s: &mut Scratch, placed: &mut bool) -> Option<f64> {
+        #[cfg(test)]
+        {
+            s.evaluated += 1;
+        }
         let table = match test {
             Test::Pair { p, .. } => self.table_gap(p, q),
             Test::Obstacle { .. } => None,
@@ -222,6 +228,22 @@ impl SphereWorld {
             // The state's word of every test, and the words before and after it.
             let (before, rest) = certified.split_at_mut(w * tests);
             let (row, after) = rest.split_at_mut(tests);
+            // The tests that failed last first (a state in collision usually hits what one
+            // did lately): a failing state then often costs one test, and a passing one none
+            // more (the others skip them as certified).
+            let recent = s.recent.0;
+            for (slot, &t) in recent.iter().enumerate().take_while(|&(_, &t)| t < tests) {
+                let bits = &mut row[t];
+                if *bits >> bit & 1 == 0 {
+                    let Some(gap) = self.gap_at(kinds[t], &q, s, &mut placed) else {
+                        s.recent.0[..=slot].rotate_right(1);
+                        verdict = (false, pos as u64 + 1);
+                        break 'states;
+                    };
+                    let span = reach(gap, SLACK, per_step[t], i, n);
+                    B::set(Row { before: &mut *before, bits, after: &mut *after, tests, t, w }, span);
+                }
+            }
             let blocks = row.chunks_mut(BLOCK).zip(kinds.chunks(BLOCK)).zip(per_step.chunks(BLOCK));
             // Most tests are certified: skip them a block at a time.
             for (block, ((words, kinds), per_step)) in blocks.enumerate() {
@@ -233,6 +255,8 @@ impl SphereWorld {
                 for (j, ((bits, &test), &per_step)) in words.iter_mut().zip(kinds).zip(per_step).enumerate() {
                     if *bits >> bit & 1 == 0 {
                         let Some(gap) = self.gap_at(test, &q, s, &mut placed) else {
+                            s.recent.0.rotate_right(1);
+                            s.recent.0[0] = block * BLOCK + j;
                             verdict = (false, pos as u64 + 1);
                             break 'states;
                         };
@@ -332,3 +356,46 @@ const BLOCK: usize = 8;
 /// Motions of fewer states than this are certified (one bit per state and test: at most
 /// 512 bytes per test); longer ones are checked one by one.
 const MAX_STATES: usize = 4096;
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Arc;
+
+    use nalgebra::{Isometry3, Vector3};
+    use opengrasp_core::model::{samples, JointGroup};
+
+    use crate::validity::soa::with_scratch;
+    use crate::validity::{ObstacleBox, SphereWorld, StateValidityChecker};
+
+    /// The tests a certified check of `a → b` runs, and its verdict.
+    fn evaluations(world: &SphereWorld, a: &[f64], b: &[f64]) -> (u64, (bool, u64)) {
+        let before = with_scratch(|s| s.evaluated);
+        let verdict = world.check_motion(a, b, 0.02);
+        (with_scratch(|s| s.evaluated) - before, verdict)
+    }
+
+    /// The planar arm stretched along x hits the post, the last of four boxes: the first
+    /// check runs the tests of the three far boxes before the post's, the same check again
+    /// starts with the test that failed and runs only it; the verdict and count stay those of
+    /// checking every state.
+    #[test]
+    fn a_repeated_collision_costs_one_test() {
+        let robot = Arc::new(samples::planar_arm(&[0.5, 0.4]).expect("arm"));
+        let group = JointGroup::all(&robot, "arm").expect("group");
+        let cube = |x: f64, y: f64| Isometry3::translation(x, y, 0.0);
+        let far = [cube(-2.0, 0.0), cube(0.0, 2.0), cube(0.0, -2.0)]
+            .map(|pose| ObstacleBox::new("far", pose, Vector3::new(0.1, 0.1, 0.1)));
+        let post = ObstacleBox::new("post", cube(0.6, 0.0), Vector3::new(0.1, 0.1, 0.5));
+        let boxes = far.into_iter().chain([post]).collect();
+        let world = SphereWorld::new(robot, group, vec![0.0, 0.0], Isometry3::identity(), boxes).expect("world");
+        let (a, b) = ([1.2, 0.3], [0.0, 0.0]);
+        let every_state = world.clone().with_certified_motions(false).check_motion(&a, &b, 0.02);
+        assert!(!every_state.0);
+        let (first, verdict) = evaluations(&world, &a, &b);
+        assert_eq!(verdict, every_state);
+        assert!(first > 3, "{first} tests");
+        let (second, verdict) = evaluations(&world, &a, &b);
+        assert_eq!(verdict, every_state);
+        assert_eq!(second, 1);
+    }
+}
