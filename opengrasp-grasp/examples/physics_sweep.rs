@@ -10,7 +10,7 @@
 //! grip torques; 0: off), `grip_margin`, `compliance` (rad: the balanced grip as joint springs,
 //! full effort at this deflection; 0: off), `spring` (rad: the closing joints as springs with their full effort share θ before their rest positions; 0: off), `resolve` (0/1: re-solve the balanced grip on
 //! the simulated contacts after the squeeze), `contact_hz`, `iterations`, `timestep` (s), `fixture`
-//! (0/1), `release` (s: the fixture's wrench ramped to zero over this time; 0: at once), `tau` (s: quasi-static closing on the free object with viscous damping of this time constant, needs `fixture=0`; 0: off), `damping_ramp` (s), `settle` (s), `coupled` (0/1), `per_cell` (grasps per planner and object, default 3), `hand`
+//! (0/1), `release` (s: the fixture's wrench ramped to zero over this time; 0: at once), `tau` (s: quasi-static closing on the free object with viscous damping of this time constant, needs `fixture=0`; 0: off), `damping_ramp` (s), `settle` (s), `coupled` (0/1), `armature` (kg·m², [`opengrasp_core::physics::PhysicsOptions::joint_armature`]), `per_cell` (grasps per planner and object, default 3), `hand`
 //! (`barrett` or `armar3`; default both). Per object and planner the first 128 candidates
 //! (spread evenly) are evaluated and `per_cell` of the force-closure palm grasps, spread
 //! evenly, are checked; the line shows `[force-closure palm grasps] held/checked`. Per hand the
@@ -57,6 +57,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "damping_ramp" => options.damping_ramp = value.parse()?,
             "settle" => options.settle = value.parse()?,
             "coupled" => p.coupled_actuators = value != "0",
+            "armature" => p.joint_armature = value.parse()?,
             "per_cell" => per_cell = value.parse()?,
             "hand" => only = value.to_string(),
             "explain" => explain = value != "0",

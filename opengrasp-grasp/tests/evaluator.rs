@@ -377,11 +377,16 @@ fn barrett_power_grasp_holds_a_salt_can_against_gravity_in_all_six_directions() 
 fn stall_torque_grip_holds_the_barrett_wrap_but_squeezes_the_armar3_cylinder_out() {
     // The cylinder wraps of the position-control tests above, with the closing motors as
     // stall-torque actuators at their effort limits (stiff 1 kHz contacts, so the 8–60 g
-    // phalanges do not sink into the object).
+    // phalanges do not sink into the object), and without the check's default joint armature
+    // (with 1e-3 kg·m² the heavier fingers do not roll off: the ARMAR-III wrap holds).
     let defaults = PhysicsCheckOptions::default();
     let options = PhysicsCheckOptions {
         effort: Some(1.0),
-        physics: opengrasp_core::physics::PhysicsOptions { contact_frequency: 1000.0, ..defaults.physics.clone() },
+        physics: opengrasp_core::physics::PhysicsOptions {
+            contact_frequency: 1000.0,
+            joint_armature: 0.0,
+            ..defaults.physics.clone()
+        },
         ..defaults
     };
     // Barrett (one actuator per finger, distal joint coupled): held in all six directions,
@@ -447,7 +452,11 @@ fn the_benchmark_records_a_diverged_physics_check_instead_of_failing() {
     let defaults = PhysicsCheckOptions::default();
     let physics = PhysicsCheckOptions {
         effort: Some(1.0),
-        physics: opengrasp_core::physics::PhysicsOptions { contact_frequency: 1000.0, ..defaults.physics.clone() },
+        physics: opengrasp_core::physics::PhysicsOptions {
+            contact_frequency: 1000.0,
+            joint_armature: 0.0,
+            ..defaults.physics.clone()
+        },
         ..defaults
     };
     let config = opengrasp_grasp::benchmark::GraspBenchmarkConfig {

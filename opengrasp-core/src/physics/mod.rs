@@ -104,6 +104,16 @@ pub struct PhysicsOptions {
     /// differently), so marginal grasps may end differently. Default `false` (the motion
     /// benchmarks' and tactile series' records); the grasp physics check turns it on.
     pub independent_chains: bool,
+    /// Armature (kg·m²) of every actuated revolute joint: the reflected inertia of its motor and
+    /// gearbox (rotor inertia × gear ratio², MuJoCo's `armature`), which dominates a geared
+    /// finger joint's inertia. Backends with dynamics add it to the joint child's rotational
+    /// inertia about the joint axis (rapier: a massless `I_a a aᵀ` in the link body), so a joint
+    /// driven alone by torque `τ` accelerates at `τ / (I_link + I_a)`; in a serial chain the
+    /// distal armatures also turn with the proximal joints (a motor mounted in the parent link
+    /// would not), an approximation good while `I_a` dominates. Contacts see the larger
+    /// effective mass, so the same `contact_frequency` is stiffer. Prismatic joints get none.
+    /// Default 0.
+    pub joint_armature: f64,
 }
 
 impl Default for PhysicsOptions {
@@ -124,6 +134,7 @@ impl Default for PhysicsOptions {
             allowed_penetration: 1e-4,
             coupled_actuators: false,
             independent_chains: false,
+            joint_armature: 0.0,
         }
     }
 }
@@ -133,8 +144,8 @@ impl PhysicsOptions {
     ///
     /// # Errors
     /// [`CoreError::NonFinite`] for a non-finite gravity, [`CoreError::InvalidParameter`] for a
-    /// non-positive timestep, zero solver iterations, or negative/non-finite gains, densities or
-    /// tolerances.
+    /// non-positive timestep, zero solver iterations, or negative/non-finite gains, densities,
+    /// tolerances or armature.
     pub fn validate(&self) -> Result<()> {
         crate::error::ensure_finite("gravity", self.gravity.iter().copied())?;
         let positive = |name: &str, v: f64| check_param(name, v, v.is_finite() && v > 0.0, "must be finite and > 0");
@@ -149,6 +160,7 @@ impl PhysicsOptions {
         non_negative("link_friction", self.link_friction)?;
         positive("contact_frequency", self.contact_frequency)?;
         non_negative("allowed_penetration", self.allowed_penetration)?;
+        non_negative("joint_armature", self.joint_armature)?;
         if self.solver_iterations == 0 {
             return Err(CoreError::InvalidParameter {
                 name: "solver_iterations".into(),

@@ -14,7 +14,10 @@ use super::{EvaluationStatus, GraspEvaluation};
 
 /// Options of the physics check ([`physics_check`]).
 ///
-/// Why the benchmark grasps fail (`physics_sweep per_cell=5`, these defaults: Barrett 42/79
+/// Measured (`physics_sweep per_cell=5`, these defaults: armature 1e-3 kg·m², squeeze 0.3):
+/// Barrett 46/79 held, ARMAR-III 23/80, none diverged; without the armature (squeeze 0.4)
+/// 42/79 (1 diverged), 12/80. The figures below were taken without the armature.
+/// Why the benchmark grasps fail (`physics_sweep per_cell=5`, without armature: Barrett 42/79
 /// held, ARMAR-III 11/80): the grip, not gravity. 36 of Barrett's 37 failures and all 69 of
 /// ARMAR-III's lose the object in the gravity-free control run as well
 /// ([`PhysicsOutcome::grip_escapes`]); at the release their traced contact normal forces push
@@ -43,14 +46,18 @@ pub struct PhysicsCheckOptions {
     /// The closing joints (those with a non-zero closing velocity) are commanded this far (rad
     /// or m) beyond the closed configuration, so the motors keep pressing the fingers against
     /// the object (with the simulator's joint stiffness, capped at the joints' effort limits).
-    /// Default: 0.4, as a hand told to close keeps squeezing past the first touch. At the 30 Hz
+    /// Default: 0.3, as a hand told to close keeps squeezing past the first touch. At the 30 Hz
     /// contacts the grip force grows with how far the fingers sink in: with 0.05 the ARMAR-III
     /// fingers (8 g phalanges) pressed 7.9 N in total (median over 80 benchmark grasps), too
     /// little for friction to carry the objects' weight (μ ΣN / m g median 0.88); with 0.4
     /// they press 120–170 N, sinking about 15 mm into the object (Barrett 6–8 mm). Measured
-    /// (`physics_sweep per_cell=5 iterations=16 squeeze=…`, held/checked Barrett, ARMAR-III):
+    /// (`physics_sweep per_cell=5 iterations=16 armature=0 squeeze=…`, held/checked Barrett, ARMAR-III):
     /// 0.05: 28/79, 0/80; 0.2: 39/79, 6/80; 0.4: 42/79, 11/80; 1: 36/79, 6/80; 3 (to the
-    /// joint limits): 35/79, 5/80. Used only without `effort`.
+    /// joint limits): 35/79, 5/80. With the default armature (1e-3 kg·m², see
+    /// [`Self::physics`]) the motors press harder for the same error (rapier's motor gains are
+    /// accelerations, scaled by the joint inertia), so less squeeze is needed: 0.1: 35/79,
+    /// 22/80; 0.2: 40/79, 23/80; 0.3 (the default): 46/79, 23/80; 0.4 (`hand=armar3 per_cell=3`)
+    /// 9/48. Used only without `effort`.
     pub squeeze: f64,
     /// `Some(f)`: the closing joints are stall-torque actuators
     /// ([`opengrasp_core::physics::JointTarget::Effort`]): each of the hand's closing motors
@@ -184,7 +191,16 @@ pub struct PhysicsCheckOptions {
     /// multibody, which flipped 1 of 64 default-suite checks, a marginal Barrett green-cup grasp);
     /// and 16 solver iterations (rapier 0.30 takes one small step per iteration): with 8, 1 of
     /// 159 benchmark checks diverged at the 0.05 squeeze and 3 at 0.4, and Barrett held 29/79
-    /// at 0.4 (42/79 with 16), for about 1.6× the check's CPU time.
+    /// at 0.4 (42/79 with 16), for about 1.6× the check's CPU time; and
+    /// [`PhysicsOptions::joint_armature`] 1e-3 kg·m²: the reflected inertia of a geared finger
+    /// motor (a small DC rotor of about 1e-7 kg·m² behind a 100:1 gearbox), 12× a Barrett
+    /// proximal phalanx's own inertia about its joint and about 250× an ARMAR-III one's, so the
+    /// soft contacts see a heavier finger and it sinks and rolls less. Measured (`physics_sweep
+    /// armature=…`, squeeze 0.4, `hand=armar3 per_cell=3`, 7/48 without): 1e-4 8/48, 1e-3 9/48,
+    /// 1e-2 9/48; 1e-3 with 300 Hz contacts 10/48 (`per_cell=5`: 34/79 with 3 diverged, 15/80),
+    /// with 1 kHz 7/48, with `fixture=0 tau=0.01` 11/48, with `spring=0.2` at 300 Hz 9/48;
+    /// 1e-4 with squeeze 0.2 (`per_cell=5`) 39/79, 18/80. Most failures still lose the object
+    /// in the gravity-free control run (the grip's imbalance, not gravity).
     pub physics: PhysicsOptions,
 }
 
@@ -201,7 +217,7 @@ impl Default for PhysicsCheckOptions {
             gravity: 9.81,
             settle: 0.2,
             duration: 0.5,
-            squeeze: 0.4,
+            squeeze: 0.3,
             effort: None,
             balanced: None,
             grip_margin: 0.5,
@@ -220,6 +236,7 @@ impl Default for PhysicsCheckOptions {
                 solver_iterations: 16,
                 coupled_actuators: true,
                 independent_chains: true,
+                joint_armature: 1e-3,
                 ..PhysicsOptions::default()
             },
         }

@@ -99,6 +99,7 @@ impl RapierBackend {
                 let m = self.options.min_link_mass;
                 mass = MassProperties::new(Point3::origin(), m, Vector3::repeat(0.4 * m * 0.02 * 0.02));
             }
+            mass += armature(&robot, LinkId(c), self.options.joint_armature, mass.local_com);
             let builder = if is_root { RigidBodyBuilder::fixed() } else { RigidBodyBuilder::dynamic() };
             let body = builder
                 .pose(sr.base_pose * fk[c])
@@ -375,6 +376,21 @@ pub(super) fn set_damping(mb: &mut Multibody, link_id: usize, extra: Option<f64>
     joint.default_damping(&mut damping);
     if let Some(c) = extra {
         damping.add_scalar_mut(c);
+    }
+}
+
+/// The armature `I_a` of the actuated revolute joint moving `link` (if any) as massless mass
+/// properties at `com` in the link's body frame: the rotational inertia `I_a a aᵀ` about the
+/// joint axis `a` (the joint's frame is the child link's, whose body this is).
+fn armature(robot: &Robot, link: LinkId, armature: f64, com: Point3<f64>) -> MassProperties {
+    let revolute = |kind| matches!(kind, JointKind::Revolute | JointKind::Continuous);
+    let joint = (0..robot.joints().len()).map(JointId).find(|&j| {
+        let joint = robot.joint(j);
+        joint.child == link && revolute(joint.kind) && robot.driving_dof(j).is_some()
+    });
+    match joint.and_then(|j| robot.joint(j).axis.try_normalize(1e-12)) {
+        Some(a) if armature > 0.0 => MassProperties::with_inertia_matrix(com, 0.0, a * a.transpose() * armature),
+        _ => MassProperties::default(),
     }
 }
 
