@@ -13,12 +13,13 @@
 /// π/2 is exact); larger or non-finite angles use `f64::sin_cos`.
 pub(super) const FAST_LIMIT: f64 = 1.0e6;
 
-/// π/2 = `P1 + P2 + P3 + P3T` to about 2⁻¹⁶⁰: `P1`, `P2`, `P3` have at most 32 significant
+/// π/2 = `P1 + P2 + P3 + P3T` (1.57079632673412561417, 6.07710050630396597660e-11,
+/// 2.02226624871116645580e-21, 8.47842766036889956997e-32) to about 2⁻¹⁶⁰: `P1`, `P2`, `P3` have at most 32 significant
 /// bits (so `k · Pi` is exact for `|k| < 2²¹`).
-const P1: f64 = 1.570_796_326_734_125_614_17;
-const P2: f64 = 6.077_100_506_303_965_976_60e-11;
-const P3: f64 = 2.022_266_248_711_166_455_80e-21;
-const P3T: f64 = 8.478_427_660_368_899_569_97e-32;
+const P1: f64 = f64::from_bits(0x3ff9_21fb_5440_0000);
+const P2: f64 = f64::from_bits(0x3dd0_b461_1a60_0000);
+const P3: f64 = f64::from_bits(0x3ba3_198a_2e00_0000);
+const P3T: f64 = f64::from_bits(0x397b_839a_2520_49c1);
 
 /// `1.5 · 2⁵²`: adding and subtracting it rounds to the nearest integer (`|v| < 2⁵¹`), and the
 /// sum's low mantissa bits are that integer modulo 4.
@@ -26,22 +27,22 @@ const ROUNDER: f64 = 6_755_399_441_055_744.0;
 
 /// fdlibm's sine polynomial: `sin r ≈ r + S1 r³ + … + S6 r¹³` on `[−π/4, π/4]`.
 const S: [f64; 6] = [
-    -1.666_666_666_666_663_243_48e-1,
-    8.333_333_333_322_489_461_24e-3,
-    -1.984_126_982_985_794_931_34e-4,
-    2.755_731_370_707_006_767_89e-6,
-    -2.505_076_025_340_686_341_95e-8,
-    1.589_690_995_211_550_102_21e-10,
+    -f64::from_bits(0x3fc5_5555_5555_5549),
+    f64::from_bits(0x3f81_1111_1110_f8a6),
+    -f64::from_bits(0x3f2a_01a0_19c1_61d5),
+    f64::from_bits(0x3ec7_1de3_57b1_fe7d),
+    -f64::from_bits(0x3e5a_e5e6_8a2b_9ceb),
+    f64::from_bits(0x3de5_d93a_5acf_d57c),
 ];
 
 /// fdlibm's cosine polynomial: `cos r ≈ 1 − r²/2 + C1 r⁴ + … + C6 r¹⁴` on `[−π/4, π/4]`.
 const C: [f64; 6] = [
-    4.166_666_666_666_660_190_37e-2,
-    -1.388_888_888_887_410_957_49e-3,
-    2.480_158_728_947_672_941_78e-5,
-    -2.755_731_435_139_066_330_35e-7,
-    2.087_572_321_298_174_827_90e-9,
-    -1.135_964_755_778_819_482_65e-11,
+    f64::from_bits(0x3fa5_5555_5555_554c),
+    -f64::from_bits(0x3f56_c16c_16c1_5177),
+    f64::from_bits(0x3efa_01a0_19cb_1590),
+    -f64::from_bits(0x3e92_7e4f_809c_52ad),
+    f64::from_bits(0x3e21_ee9e_bdb4_b1c4),
+    -f64::from_bits(0x3da8_fae9_be88_38d4),
 ];
 
 /// `(a − b)` rounded and its exact error (Knuth's two-sum).
@@ -105,8 +106,7 @@ pub(super) fn sin_cos_n<const N: usize>(x: &[f64; N]) -> ([f64; N], [f64; N]) {
         (s[i], c[i]) = kernel(x[i]);
     }
     for i in 0..N {
-        // Not `>`: a NaN goes to `std` too.
-        if !(x[i].abs() <= FAST_LIMIT) {
+        if x[i].abs() > FAST_LIMIT || x[i].is_nan() {
             (s[i], c[i]) = x[i].sin_cos();
         }
     }
