@@ -1,7 +1,8 @@
 //! Forward kinematics compiled for one planning group: only the frames the group's joints
 //! move, each its parent frame times a fixed 3×4 transform times one joint motion, in plain
 //! `f64` arrays (no quaternions, no allocation). Links rigidly attached to a frame (fixed
-//! joints, joints outside the group) ride on it.
+//! joints, joints outside the group) ride on it. Sines and cosines are [`trig`]'s (plain
+//! arithmetic, the same bits on every machine), a chain's joints at once.
 
 use nalgebra::Isometry3;
 use opengrasp_core::model::{JointGroup, JointKind, LinkId, Robot};
@@ -173,7 +174,9 @@ impl Chain {
     /// Moving frame `f`'s pose in its parent frame at driving value `q`.
     pub fn local(&self, f: usize, q: f64) -> Mat34 {
         let fr = &self.frames[f - 1];
-        fr.moved(&fr.fixed, q)
+        let v = fr.angle(q);
+        let (s, c) = trig::sin_cos(v);
+        fr.moved(&fr.fixed, v, s, c)
     }
 
     /// Everything [`Chain::local`] of frame `f` depends on, as numbers (to tell whether two
@@ -188,15 +191,23 @@ impl Chain {
     pub fn frames(&self, q: &[f64], out: &mut Vec<Mat34>) {
         out.resize(self.frames.len() + 1, IDENTITY);
         out[0] = IDENTITY;
-        for (at, f) in (1..out.len()).zip(&self.frames) {
-            let m = match f.place {
-                Place::World(m) => m,
-                Place::Block(0) => compose_block::<0>(&out[f.parent], &f.fixed),
-                Place::Block(1) => compose_block::<1>(&out[f.parent], &f.fixed),
-                Place::Block(_) => compose_block::<2>(&out[f.parent], &f.fixed),
-                Place::General => compose(&out[f.parent], &f.fixed),
-            };
-            out[at] = f.moved(&m, q[f.dof]);
+        for (first, chunk) in (1..).step_by(TRIG_BATCH).zip(self.frames.chunks(TRIG_BATCH)) {
+            // The joints' sines and cosines first, together (they vectorise), then the poses.
+            let mut angles = [0.0; TRIG_BATCH];
+            for (v, f) in angles.iter_mut().zip(chunk) {
+                *v = f.angle(q[f.dof]);
+            }
+            let (sin, cos) = trig::sin_cos_n(&angles);
+            for (j, f) in chunk.iter().enumerate() {
+                let m = match f.place {
+                    Place::World(m) => m,
+                    Place::Block(0) => compose_block::<0>(&out[f.parent], &f.fixed),
+                    Place::Block(1) => compose_block::<1>(&out[f.parent], &f.fixed),
+                    Place::Block(_) => compose_block::<2>(&out[f.parent], &f.fixed),
+                    Place::General => compose(&out[f.parent], &f.fixed),
+                };
+                out[first + j] = f.moved(&m, angles[j], sin[j], cos[j]);
+            }
         }
     }
 
@@ -210,11 +221,8 @@ impl Chain {
         for f in &self.frames {
             let m = compose_lanes(&out[f.parent], &f.fixed.map(|v| [v; LANES]));
             if let Some((i, sign)) = f.aligned {
-                let mut sc = [[0.0; LANES]; 2];
-                for l in 0..LANES {
-                    let (s, c) = f.angle(qs[f.dof][l]).sin_cos();
-                    (sc[0][l], sc[1][l]) = (s * sign, c);
-                }
+                let (s, c) = trig::sin_cos_n(&qs[f.dof].map(|q| f.angle(q)));
+                let sc = [s.map(|s| s * sign), c];
                 // The axis a compile-time constant, so the index arithmetic folds away.
                 out.push(match i {
                     0 => turn_lanes::<0>(&m, &sc[0], &sc[1]),
@@ -234,6 +242,9 @@ impl Chain {
         }
     }
 }
+
+/// Joints whose sines and cosines [`Chain::frames`] computes together.
+const TRIG_BATCH: usize = 8;
 
 /// States checked together by the batched kernels.
 pub(super) const LANES: usize = 4;
@@ -306,20 +317,17 @@ impl Frame {
         self.scale * q + self.offset
     }
 
-    /// `m ∘ motion(q)`, the same numbers as [`compose`] with [`Frame::motion`] but cheaper
-    /// for a joint about a coordinate axis.
+    /// `m ∘ motion` at joint value `v` (`s`, `c` its [`trig::sin_cos`]), the same numbers as
+    /// [`compose`] with [`Frame::motion`] but cheaper for a joint about a coordinate axis.
     #[inline(always)]
-    fn moved(&self, m: &Mat34, q: f64) -> Mat34 {
+    fn moved(&self, m: &Mat34, v: f64, s: f64, c: f64) -> Mat34 {
         match self.aligned {
-            Some((i, sign)) => {
-                let (s, c) = self.angle(q).sin_cos();
-                match i {
-                    0 => turn::<0>(m, s * sign, c),
-                    1 => turn::<1>(m, s * sign, c),
-                    _ => turn::<2>(m, s * sign, c),
-                }
-            }
-            None => compose(m, &self.motion(q)),
+            Some((i, sign)) => match i {
+                0 => turn::<0>(m, s * sign, c),
+                1 => turn::<1>(m, s * sign, c),
+                _ => turn::<2>(m, s * sign, c),
+            },
+            None => compose(m, &self.motion_at(v, s, c)),
         }
     }
 
@@ -327,12 +335,19 @@ impl Frame {
     #[inline(always)]
     fn motion(&self, q: f64) -> Mat34 {
         let v = self.angle(q);
+        let (s, c) = trig::sin_cos(v);
+        self.motion_at(v, s, c)
+    }
+
+    /// The joint motion at joint value `v` (`s`, `c` its sine and cosine, unused for a
+    /// prismatic joint).
+    #[inline(always)]
+    fn motion_at(&self, v: f64, s: f64, c: f64) -> Mat34 {
         let [x, y, z] = self.axis;
         if self.prismatic {
             [1.0, 0.0, 0.0, x * v, 0.0, 1.0, 0.0, y * v, 0.0, 0.0, 1.0, z * v]
         } else {
             // Rodrigues: R = cI + s[u]× + (1 − c)uuᵀ.
-            let (s, c) = v.sin_cos();
             let k = 1.0 - c;
             [
                 c + k * x * x,
@@ -351,6 +366,8 @@ impl Frame {
         }
     }
 }
+
+mod trig;
 
 #[cfg(test)]
 mod tests;
