@@ -384,10 +384,7 @@ pub(super) fn set_damping(mb: &mut Multibody, link_id: usize, extra: Option<f64>
 /// joint axis `a` (the joint's frame is the child link's, whose body this is).
 fn armature(robot: &Robot, link: LinkId, armature: f64, com: Point3<f64>) -> MassProperties {
     let revolute = |kind| matches!(kind, JointKind::Revolute | JointKind::Continuous);
-    let joint = (0..robot.joints().len()).map(JointId).find(|&j| {
-        let joint = robot.joint(j);
-        joint.child == link && revolute(joint.kind) && robot.driving_dof(j).is_some()
-    });
+    let joint = robot.parent_joint(link).filter(|&j| revolute(robot.joint(j).kind) && robot.driving_dof(j).is_some());
     match joint.and_then(|j| robot.joint(j).axis.try_normalize(1e-12)) {
         Some(a) if armature > 0.0 => MassProperties::with_inertia_matrix(com, 0.0, a * a.transpose() * armature),
         _ => MassProperties::default(),
