@@ -17,13 +17,10 @@
 //! `max_translation` or turns it more than `max_rotation`: the simulated grip has no
 //! equilibrium there) or `settled` (within them); per class the count held.
 
-use opengrasp_assets::{hands, objects};
+use opengrasp_assets::hands;
 use opengrasp_core::physics::{ContactBody, PhysicsEngine, RapierBackend};
 use opengrasp_core::scene::ObjectId;
-use opengrasp_grasp::evaluator::{
-    physics_check, undamp_gradually, EvaluatorOptions, GraspEvaluator, PhysicsCheckOptions,
-};
-use opengrasp_grasp::planners::{GraspPlanner, MedialAxisPlanner, SurfaceNormalPlanner};
+use opengrasp_grasp::evaluator::{physics_check, undamp_gradually, PhysicsCheckOptions};
 use opengrasp_grasp::tactile::sources::{squeeze_engine, TactileSeriesOptions};
 
 mod common;
@@ -35,18 +32,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let tau: f64 = args.get(1).map_or(Ok(0.01), |s| s.parse())?;
     let per_cell: usize = args.get(2).map_or(Ok(3), |s| s.parse())?;
     let options = PhysicsCheckOptions { fixture: false, closing_damping: Some(tau), ..PhysicsCheckOptions::default() };
-    let planners: [&dyn GraspPlanner; 2] = [&MedialAxisPlanner::default(), &SurfaceNormalPlanner::default()];
     let (oid, dt) = (ObjectId(0), options.physics.timestep);
     // Per class (expelled, drifting, settled): checked, held.
     let mut classes = [[0usize; 2]; 3];
-    for name in objects::NAMES.split_at(8).0 {
-        let object = objects::by_name(name)?;
-        let mut evaluator = GraspEvaluator::new(&hand, &object, EvaluatorOptions::default())?;
-        for planner in planners {
-            let grasps = common::fc_palm_grasps(&mut evaluator, &object, planner)?;
-            let k = per_cell.min(grasps.len());
-            for j in 0..k {
-                let grasp = &grasps[j * grasps.len() / k];
+    for common::ObjectSample { object, planners } in common::paper_sample(&hand, per_cell)? {
+        let name = &object.name;
+        for sample in &planners {
+            for (j, grasp) in sample.grasps.iter().enumerate() {
                 let squeeze = TactileSeriesOptions {
                     squeeze: options.squeeze,
                     gravity: nalgebra::Vector3::zeros(),
@@ -93,7 +85,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 classes[class][1] += usize::from(held);
                 println!(
                     "{name:16} {:15} {j}: closed {:5.1} mm {:4.2} rad, ramped {:5.1} mm {:4.2} rad, {} links {:6.1} N, then undamped {:5.1} mm {:4.2} rad (control run {:5.1} mm from the grasp), gravity up to {:5.1} mm more, {}: {}",
-                    planner.name(),
+                    sample.planner,
                     1e3 * closed.translation.vector.norm(),
                     closed.rotation.angle(),
                     1e3 * ramped.translation.vector.norm(),

@@ -12,11 +12,8 @@
 //! the weakest direction the saturated actuators. With `trace`, grasps the static test cannot
 //! hold also print the optimal contact forces of their weakest direction.
 
-use opengrasp_assets::{hands, objects};
-use opengrasp_grasp::evaluator::{
-    physics_check, static_hold, EvaluatorOptions, GraspEvaluator, HoldResult, PhysicsCheckOptions, StaticHoldOptions,
-};
-use opengrasp_grasp::planners::{GraspPlanner, MedialAxisPlanner, SurfaceNormalPlanner};
+use opengrasp_assets::hands;
+use opengrasp_grasp::evaluator::{physics_check, static_hold, HoldResult, PhysicsCheckOptions, StaticHoldOptions};
 
 mod common;
 
@@ -26,7 +23,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let only = args.get(1).cloned().unwrap_or_default();
     let trace = args.iter().any(|a| a == "trace");
     let (physics, statics) = (PhysicsCheckOptions::default(), StaticHoldOptions::default());
-    let planners: [&dyn GraspPlanner; 2] = [&MedialAxisPlanner::default(), &SurfaceNormalPlanner::default()];
     for (name, hand) in [("barrett", hands::barrett()), ("armar3", hands::armar3_hand())] {
         if !only.is_empty() && only != "all" && only != name {
             continue;
@@ -36,14 +32,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         // [physics held][static holdable] counts, and held / slipped / dropped.
         let mut table = [[0usize; 2]; 2];
         let mut hsd = [0usize; 3];
-        for object in objects::NAMES.split_at(8).0 {
-            let object = objects::by_name(object)?;
-            let mut evaluator = GraspEvaluator::new(&hand, &object, EvaluatorOptions::default())?;
-            for planner in planners {
-                let grasps = common::fc_palm_grasps(&mut evaluator, &object, planner)?;
-                let k = per_cell.min(grasps.len());
-                for j in 0..k {
-                    let g = &grasps[j * grasps.len() / k];
+        for common::ObjectSample { object, planners } in common::paper_sample(&hand, per_cell)? {
+            for sample in &planners {
+                for (j, g) in sample.grasps.iter().enumerate() {
                     let p = physics_check(&hand, &object, g, &physics)?;
                     let s = static_hold(&hand, &object, g, &statics)?;
                     table[usize::from(p.held())][usize::from(s.holdable())] += 1;
@@ -67,7 +58,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     println!(
                         "{name:8} {:17} {:15} #{j} physics {codes} static [{}] weakest {:?}: {:.2} saturated {saturated:?}",
                         object.name,
-                        planner.name(),
+                        sample.planner,
                         loads.join(" "),
                         weakest.direction.map(|v| v.round()).as_slice(),
                         weakest.load_factor,

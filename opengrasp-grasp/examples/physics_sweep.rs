@@ -24,11 +24,10 @@
 //! weak (`μΣN < mg`: friction cannot carry the weight across the squeeze) and pushed out (the
 //! fixture holds more than the weight: the grip alone pushes the object out when freed).
 
-use opengrasp_assets::{hands, objects};
+use opengrasp_assets::hands;
 use opengrasp_core::error::CoreError;
 use opengrasp_grasp::error::GraspError;
-use opengrasp_grasp::evaluator::{physics_check, EvaluatorOptions, GraspEvaluator, HoldResult, PhysicsCheckOptions};
-use opengrasp_grasp::planners::{GraspPlanner, MedialAxisPlanner, SurfaceNormalPlanner};
+use opengrasp_grasp::evaluator::{physics_check, HoldResult, PhysicsCheckOptions};
 
 mod common;
 
@@ -46,6 +45,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "balanced" => options.balanced = Some(value.parse()?).filter(|&f: &f64| f > 0.0),
             "grip_margin" => options.grip_margin = value.parse()?,
             "resolve" => options.resolve_grip = value != "0",
+            "regrip" => options.regrip = Some(value.parse()?).filter(|&t: &f64| t > 0.0),
             "spring" => options.spring = Some(value.parse()?).filter(|&f: &f64| f > 0.0),
             "compliance" => options.grip_compliance = Some(value.parse()?).filter(|&f: &f64| f > 0.0),
             "contact_hz" => p.contact_frequency = value.parse()?,
@@ -65,7 +65,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             _ => return Err(format!("unknown key `{key}`").into()),
         }
     }
-    let planners: [&dyn GraspPlanner; 2] = [&MedialAxisPlanner::default(), &SurfaceNormalPlanner::default()];
     for (name, hand) in [("barrett", hands::barrett()), ("armar3", hands::armar3_hand())] {
         if !only.is_empty() && only != name {
             continue;
@@ -75,16 +74,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let mut pushes: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
         // Per class of clamped squeeze (weak? pushed out?): checked and held.
         let mut classes = [[0usize; 2]; 4];
-        for object in objects::NAMES.split_at(8).0 {
-            let object = objects::by_name(object)?;
-            let mut evaluator = GraspEvaluator::new(&hand, &object, EvaluatorOptions::default())?;
+        for common::ObjectSample { object, planners } in common::paper_sample(&hand, per_cell)? {
             let mut line = format!("{name:8} {:17}", object.name);
-            for planner in planners {
-                let grasps = common::fc_palm_grasps(&mut evaluator, &object, planner)?;
-                let k = per_cell.min(grasps.len());
+            for sample in planners {
+                let k = sample.grasps.len();
                 let mut h = 0;
-                for j in 0..k {
-                    let mut grasp = grasps[j * grasps.len() / k].clone();
+                for (j, grasp) in sample.grasps.into_iter().enumerate() {
+                    let mut grasp = grasp;
                     // The hand moved `palm_push` further along its approach, into the object.
                     grasp.hand_pose *= nalgebra::Translation3::from(hand.approach().into_inner() * palm_push);
                     let grasp = &grasp;
@@ -128,7 +124,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 }
                 checked += k;
                 held += h;
-                line += &format!("  [{:3}] {h}/{k}", grasps.len());
+                line += &format!("  [{:3}] {h}/{k}", sample.found);
             }
             println!("{line}");
         }
