@@ -104,6 +104,26 @@ fn bad_hand_and_object_files_are_typed_errors() {
         )
     };
     assert!(Hand::load(write("ok.json", &spec(""))).is_ok());
+    // The actuation: position servos unless the spec says otherwise; a compliance must be
+    // finite and positive, and an unknown model is an error.
+    use opengrasp_core::hand::Actuation;
+    assert_eq!(Hand::load(write("ok.json", &spec(""))).unwrap().actuation(), Actuation::Position);
+    let compliant = Hand::load(write("soft.json", &spec(r#", "actuation": {"compliant": {"compliance": 0.1}}"#)));
+    assert_eq!(compliant.unwrap().actuation(), Actuation::Compliant { compliance: 0.1 });
+    let position = Hand::load(write("servo.json", &spec(r#", "actuation": "position""#)));
+    assert_eq!(position.unwrap().actuation(), Actuation::Position);
+    for bad in ["0", "-0.1", "1e999"] {
+        let text = spec(&format!(r#", "actuation": {{"compliant": {{"compliance": {bad}}}}}"#));
+        let loaded = Hand::load(write("stiff.json", &text));
+        assert!(
+            matches!(loaded, Err(CoreError::InvalidParameter { .. } | CoreError::MalformedSpec { .. })),
+            "{bad}: {loaded:?}"
+        );
+    }
+    for bad in [r#""pneumatic""#, r#"{"compliant": {}}"#, r#"{"compliant": {"compliance": 0.1, "gain": 2}}"#] {
+        let loaded = Hand::load(write("model.json", &spec(&format!(r#", "actuation": {bad}"#))));
+        assert!(matches!(loaded, Err(CoreError::MalformedSpec { .. })), "{bad}: {loaded:?}");
+    }
     // A typo is an error, not a silently ignored key.
     let typo = Hand::load(write("typo.json", &spec(r#", "tactile_link": []"#)));
     assert!(matches!(typo, Err(CoreError::MalformedSpec { .. })), "{typo:?}");

@@ -17,12 +17,13 @@
 //!   "preshapes": [{"name": "open", "joints": {"finger_joint": 0.0}}],
 //!   "fingers": [{"name": "left", "links": ["left_finger"]}],
 //!   "closing": {"finger_joint": 0.5},
-//!   "tactile_links": []
+//!   "tactile_links": [],
+//!   "actuation": "position"
 //! }
 //! ```
 //!
 //! `rpy` is URDF's fixed-axis roll-pitch-yaw (rad); `closing` values are velocities (rad/s or
-//! m/s) whose sign gives the closing direction. Unknown keys are rejected, so a typo is an
+//! m/s) whose sign gives the closing direction; `actuation` (optional) is [`Actuation`]. Unknown keys are rejected, so a typo is an
 //! error rather than a silently ignored setting.
 
 use std::collections::BTreeSet;
@@ -86,6 +87,28 @@ pub struct HandSpec {
     /// Links carrying tactile sensor pads.
     #[serde(default)]
     pub tactile_links: Vec<String>,
+    /// How the closing actuators act on the fingers in simulation. Default: position servos.
+    #[serde(default)]
+    pub actuation: Actuation,
+}
+
+/// How a hand's closing actuators act on its fingers: what a simulation of the hand (the grasp
+/// physics check) drives them as. In spec files `"actuation": "position"` (the default) or
+/// `"actuation": {"compliant": {"compliance": 0.1}}`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Actuation {
+    /// Stiff position servos (geared, non-back-drivable drives such as worm gears): commanded
+    /// past the closed configuration, they press up to their effort limits.
+    #[default]
+    Position,
+    /// Compliant torque sources (fluidic or series-elastic actuators): each actuator presses
+    /// with a torque of its choosing within its effort limit and yields as a spring that gains
+    /// its full effort share over `compliance` (rad, or m for a prismatic joint) of deflection.
+    Compliant {
+        /// Deflection (rad or m) over which an actuator's force grows by its effort share.
+        compliance: f64,
+    },
 }
 
 /// A named preshape as a sparse configuration `(dof index, value)`.
@@ -120,6 +143,7 @@ pub struct Hand {
     fingers: Vec<Finger>,
     closing_velocity: Vec<f64>,
     tactile_links: Vec<LinkId>,
+    actuation: Actuation,
 }
 
 impl Hand {
@@ -173,6 +197,11 @@ impl Hand {
             }
             fingers.push(Finger { name: f.name.clone(), links, closing_dofs: dofs.into_iter().collect() });
         }
+        if let Actuation::Compliant { compliance } = spec.actuation {
+            if !(compliance.is_finite() && compliance > 0.0) {
+                return Err(invalid("actuation", format!("compliance must be finite and positive, got {compliance}")));
+            }
+        }
         let tactile_links =
             spec.tactile_links.iter().map(|l| robot.link_id(l)).collect::<std::result::Result<Vec<_>, _>>()?;
         Ok(Self {
@@ -185,6 +214,7 @@ impl Hand {
             fingers,
             closing_velocity,
             tactile_links,
+            actuation: spec.actuation,
         })
     }
 
@@ -252,6 +282,11 @@ impl Hand {
     /// Links carrying tactile pads.
     pub fn tactile_links(&self) -> &[LinkId] {
         &self.tactile_links
+    }
+
+    /// How the closing actuators act on the fingers in simulation.
+    pub fn actuation(&self) -> Actuation {
+        self.actuation
     }
     /// How joint `joint` follows the configuration: `(dof index, multiplier)` (coupled joints
     /// are mimic joints; see [`Robot::driving_dof`]).

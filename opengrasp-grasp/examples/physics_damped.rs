@@ -31,7 +31,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         if args.first().map(String::as_str) == Some("barrett") { hands::barrett() } else { hands::armar3_hand() };
     let tau: f64 = args.get(1).map_or(Ok(0.01), |s| s.parse())?;
     let per_cell: usize = args.get(2).map_or(Ok(3), |s| s.parse())?;
-    let options = PhysicsCheckOptions { fixture: false, closing_damping: Some(tau), ..PhysicsCheckOptions::default() };
+    // Position control, as the closing this example repeats step by step.
+    let options = PhysicsCheckOptions {
+        fixture: false,
+        closing_damping: Some(tau),
+        hand_actuation: false,
+        ..PhysicsCheckOptions::default()
+    };
     let (oid, dt) = (ObjectId(0), options.physics.timestep);
     // Per class (expelled, drifting, settled): checked, held.
     let mut classes = [[0usize; 2]; 3];

@@ -9,7 +9,7 @@
 //! control with `squeeze`), `balanced` (fraction of the joints' effort shares for the balanced
 //! grip torques; 0: off), `grip_margin`, `compliance` (rad: the balanced grip as joint springs,
 //! full effort at this deflection; 0: off), `spring` (rad: the closing joints as springs with their full effort share θ before their rest positions; 0: off), `resolve` (0/1: re-solve the balanced grip on
-//! the simulated contacts after the squeeze), `contact_hz`, `iterations`, `timestep` (s), `fixture`
+//! the simulated contacts after the squeeze), `regrip` (s: re-solve it every this often during the squeeze; 0: off), `hand_actuation` (0/1: each hand's own actuator model where no other is set), `contact_hz`, `iterations`, `timestep` (s), `fixture`
 //! (0/1), `release` (s: the fixture's wrench ramped to zero over this time; 0: at once), `tau` (s: quasi-static closing on the free object with viscous damping of this time constant, needs `fixture=0`; 0: off), `damping_ramp` (s), `settle` (s), `coupled` (0/1), `armature` (kg·m², [`opengrasp_core::physics::PhysicsOptions::joint_armature`]), `per_cell` (grasps per planner and object, default 3), `hand`
 //! (`barrett` or `armar3`; default both). Per object and planner the first 128 candidates
 //! (spread evenly) are evaluated and `per_cell` of the force-closure palm grasps, spread
@@ -46,6 +46,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "grip_margin" => options.grip_margin = value.parse()?,
             "resolve" => options.resolve_grip = value != "0",
             "regrip" => options.regrip = Some(value.parse()?).filter(|&t: &f64| t > 0.0),
+            "hand_actuation" => options.hand_actuation = value != "0",
             "spring" => options.spring = Some(value.parse()?).filter(|&f: &f64| f > 0.0),
             "compliance" => options.grip_compliance = Some(value.parse()?).filter(|&f: &f64| f > 0.0),
             "contact_hz" => p.contact_frequency = value.parse()?,

@@ -91,6 +91,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Ok(theta) = std::env::var("COMPLIANCE") {
         options.grip_compliance = Some(theta.parse()?);
     }
+    // The hand's own actuator model where none is chosen above, as the check applies it.
+    let options = options.for_hand(&hand);
     let pick = |k: usize| &grasps[k * grasps.len() / 10];
     if args.get(2).map(String::as_str) == Some("all") {
         for k in 0..10 {

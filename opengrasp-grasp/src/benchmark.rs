@@ -33,6 +33,7 @@
 //!     ],
 //!     closing: vec![("left_joint".into(), -0.05)],
 //!     tactile_links: vec![],
+//!     actuation: Default::default(),
 //! };
 //! let cube = ObjectModel::from_mesh("cube", TriangleMesh::cuboid(Vector3::repeat(0.05))?, 0.1, 0.5)?;
 //! let config = GraspBenchmarkConfig {

@@ -122,6 +122,9 @@ fn physics_check_rejects_conflicting_actuator_modes() {
         PhysicsCheckOptions { grip_compliance: Some(0.05), ..defaults.clone() },
         PhysicsCheckOptions { balanced: Some(1.0), grip_compliance: Some(0.0), ..defaults.clone() },
         PhysicsCheckOptions { balanced: Some(1.0), grip_compliance: Some(f64::NAN), ..defaults.clone() },
+        PhysicsCheckOptions { regrip: Some(0.01), ..defaults.clone() },
+        PhysicsCheckOptions { balanced: Some(1.0), regrip: Some(0.0), ..defaults.clone() },
+        PhysicsCheckOptions { balanced: Some(1.0), regrip: Some(f64::INFINITY), ..defaults.clone() },
     ];
     for options in bad {
         assert!(matches!(options.validate(), Err(GraspError::InvalidParameter { .. })), "{options:?}");
@@ -167,4 +170,89 @@ fn balanced_grip_springs_hold_the_barrett_salt_can_wrap() {
     assert_eq!(out.results, vec![HoldResult::Held; 6], "{out:?}");
     assert!(out.translations.iter().all(|&t| t < 0.004), "{out:?}");
     assert_eq!(physics_check(&hand, &object, &e, &options).unwrap(), out);
+}
+
+/// Without a contact that a motorised joint moves (no contact at all, or only the palm's, as
+/// the simulated contacts a grip controller re-solves on can be once the fingers lost the
+/// object) nothing squeezes: the grip is all zero, not a solver failure.
+#[test]
+fn a_grip_without_finger_contacts_is_zero() {
+    let (hand, object, mut e) = barrett_salt_can_wrap();
+    // A finger contact moved onto the palm link, which no joint moves.
+    let palm = opengrasp_grasp::evaluator::GraspContact { link: hand.palm().0, finger: None, ..e.contacts[0] };
+    for contacts in [Vec::new(), vec![palm]] {
+        e.contacts = contacts;
+        let grip = grip_torques(&hand, &object, &e, 1.0, 0.5, true).unwrap();
+        assert!(!grip.squeezes(), "{grip:?}");
+        assert_eq!(grip.min_normal, 0.0);
+        assert_eq!(grip.contact_forces.len(), e.contacts.len());
+        assert!(grip.contact_forces.iter().all(|f| f.norm() == 0.0), "{grip:?}");
+    }
+}
+
+/// The grip controller (`regrip`: the balanced grip re-solved on the simulated contacts every
+/// 20 ms of the squeeze) holds the Barrett salt-can wrap in all six directions at 1 kHz
+/// contacts, with torques of its own (another outcome than the grip solved once),
+/// deterministically.
+#[test]
+fn regripping_holds_the_barrett_salt_can_wrap() {
+    let (hand, object, e) = barrett_salt_can_wrap();
+    let defaults = PhysicsCheckOptions::default();
+    let once = PhysicsCheckOptions {
+        balanced: Some(1.0),
+        physics: opengrasp_core::physics::PhysicsOptions { contact_frequency: 1000.0, ..defaults.physics.clone() },
+        ..defaults
+    };
+    let regrip = PhysicsCheckOptions { regrip: Some(0.02), ..once.clone() };
+    let out = physics_check(&hand, &object, &e, &regrip).unwrap();
+    println!("{out:?}");
+    assert_eq!(out.results, vec![HoldResult::Held; 6], "{out:?}");
+    assert!(out.translations.iter().all(|&t| t < 0.005), "{out:?}");
+    assert_ne!(out, physics_check(&hand, &object, &e, &once).unwrap());
+    assert_eq!(physics_check(&hand, &object, &e, &regrip).unwrap(), out);
+}
+
+/// The check drives the fingers as the hand's actuators act: the ARMAR-III hand's fluidic
+/// actuators are compliant, so with no actuator model chosen in the options its grasps are
+/// checked with the balanced grip pressed through joint springs (bit for bit the explicit
+/// settings), while the Barrett's position servos and any model the options choose stay as set.
+#[test]
+fn the_physics_check_drives_each_hand_as_its_actuation_says() {
+    use opengrasp_core::hand::Actuation;
+    let armar = hands::armar3_hand();
+    let barrett = hands::barrett();
+    let compliance = hands::ARMAR3_COMPLIANCE;
+    assert_eq!(armar.actuation(), Actuation::Compliant { compliance });
+    assert_eq!(barrett.actuation(), Actuation::Position);
+    assert_eq!(hands::sdh().actuation(), Actuation::Position);
+    let defaults = PhysicsCheckOptions::default();
+    assert!(defaults.hand_actuation);
+    let applied = defaults.for_hand(&armar);
+    assert_eq!((applied.balanced, applied.grip_compliance), (Some(1.0), Some(compliance)));
+    assert_eq!(defaults.for_hand(&barrett), defaults);
+    let off = PhysicsCheckOptions { hand_actuation: false, ..defaults.clone() };
+    assert_eq!(off.for_hand(&armar), off);
+    let chosen = PhysicsCheckOptions { effort: Some(0.5), ..defaults.clone() };
+    assert_eq!(chosen.for_hand(&armar), chosen);
+    let spring = PhysicsCheckOptions { spring: Some(0.4), ..defaults.clone() };
+    assert_eq!(spring.for_hand(&armar), spring);
+    // The check applies it: the hand's model gives exactly the explicit settings' outcome.
+    let object = opengrasp_assets::objects::by_name("salt_can").unwrap();
+    let mut ev = GraspEvaluator::new(&armar, &object, EvaluatorOptions::default()).unwrap();
+    let info = ev.hand_info().clone();
+    let approach = Unit::new_normalize(-Vector3::x());
+    let mut hand_pose = palm_pose(&info, &Point3::origin(), &approach, &Vector3::y());
+    hand_pose.translation.vector.z = 0.07;
+    let e = ev.evaluate(&GraspCandidate { hand_pose, preshape: Preshape::Default, approach, standoff: 0.0 }).unwrap();
+    let two = PhysicsCheckOptions { directions: vec![-Vector3::z(), Vector3::y()], ..defaults };
+    let by_hand = physics_check(&armar, &object, &e, &two).unwrap();
+    let explicit = PhysicsCheckOptions {
+        balanced: Some(1.0),
+        grip_compliance: Some(compliance),
+        hand_actuation: false,
+        ..two.clone()
+    };
+    assert_eq!(physics_check(&armar, &object, &e, &explicit).unwrap(), by_hand);
+    let servo = physics_check(&armar, &object, &e, &PhysicsCheckOptions { hand_actuation: false, ..two }).unwrap();
+    assert_ne!(servo, by_hand);
 }

@@ -90,6 +90,7 @@ fn two_finger_hand(b: RobotBuilder, joint: &str) -> Hand {
             .collect(),
         closing: vec![(format!("left_{joint}"), 1.0), (format!("right_{joint}"), 1.0)],
         tactile_links: Vec::new(),
+        actuation: Default::default(),
     };
     Hand::from_robot(b.build().unwrap(), spec).unwrap()
 }

@@ -191,6 +191,7 @@ fn flat_box_resting_on_a_pad_lights_the_expected_rectangle() {
             fingers: vec![opengrasp_core::hand::FingerSpec { name: "plate".into(), links: vec!["plate".into()] }],
             closing: vec![],
             tactile_links: vec!["plate".into()],
+            actuation: Default::default(),
         },
     )
     .unwrap();

@@ -163,7 +163,15 @@ pub fn grip_torques(
     }
     let radius = (object.size().norm() / 2.0).max(1e-3);
     let mu = object.friction * margin;
-    let x = solve(&frames, &levers, &torque, &joints, closing, mu, radius)?;
+    let driven = |c: usize| torque[c].iter().any(|t| t.iter().any(|&v| v != 0.0));
+    // No contact a motorised joint moves (none at all, or only the palm's, as the simulator's
+    // contacts after a finger lost its object): nothing to squeeze with, and the program's
+    // smallest driven normal force would be unbounded.
+    let x = if (0..nc).any(driven) {
+        solve(&frames, &levers, &torque, &joints, closing, mu, radius)?
+    } else {
+        vec![0.0; 3 * nc + 1]
+    };
     let contact_forces =
         frames.iter().enumerate().map(|(c, f)| f * Vector3::new(x[3 * c], x[3 * c + 1], x[3 * c + 2])).collect();
     let joints = joints
@@ -176,7 +184,6 @@ pub fn grip_torques(
             limit,
         })
         .collect();
-    let driven = |c: usize| torque[c].iter().any(|t| t.iter().any(|&v| v != 0.0));
     let min_normal = (0..nc).filter(|&c| driven(c)).map(|c| x[3 * c]).fold(f64::INFINITY, f64::min);
     Ok(GripTorques { contact_forces, joints, min_normal: if min_normal.is_finite() { min_normal } else { 0.0 } })
 }

@@ -1,7 +1,7 @@
 //! The physics hold check: does the closed hand keep the object under gravity?
 
 use nalgebra::{Isometry3, Vector3};
-use opengrasp_core::hand::Hand;
+use opengrasp_core::hand::{Actuation, Hand};
 use opengrasp_core::physics::{PhysicsEngine, PhysicsOptions, RapierBackend};
 use opengrasp_core::scene::ObjectId;
 use serde::{Deserialize, Serialize};
@@ -14,9 +14,11 @@ use super::{EvaluationStatus, GraspEvaluation};
 
 /// Options of the physics check ([`physics_check`]).
 ///
-/// Measured (`physics_sweep per_cell=5`, these defaults: armature 1e-3 kg·m², squeeze 0.3):
-/// Barrett 46/79 held, ARMAR-III 23/80, none diverged; without the armature (squeeze 0.4)
-/// 42/79 (1 diverged), 12/80. The figures below were taken without the armature.
+/// Measured (`physics_sweep per_cell=5`, these defaults: armature 1e-3 kg·m², squeeze 0.3,
+/// each hand driven as its actuation says, [`Self::hand_actuation`]): Barrett 46/79 held,
+/// ARMAR-III 30/80 (23/80 under position control), none diverged; without the armature
+/// (squeeze 0.4, position control) 42/79 (1 diverged), 12/80. The figures below were taken
+/// without the armature unless they say otherwise.
 /// Why the benchmark grasps fail (`physics_sweep per_cell=5`, without armature: Barrett 42/79
 /// held, ARMAR-III 11/80): the grip, not gravity. 36 of Barrett's 37 failures and all 69 of
 /// ARMAR-III's lose the object in the gravity-free control run as well
@@ -89,6 +91,9 @@ pub struct PhysicsCheckOptions {
     /// 0/80 with the same sweep): the torques balance the evaluator's contacts, and where the
     /// simulated contacts differ (a palm contact that does not touch, fingertips that roll) the
     /// constant torques push the object out.
+    /// With the default armature (30 Hz contacts, `physics_sweep per_cell=5 balanced=1`):
+    /// Barrett 43/79, ARMAR-III 19/80 (position control 46/79, 23/80); as joint springs
+    /// (`grip_compliance`) see there.
     /// Setting both `balanced` and `effort` is an error ([`PhysicsCheckOptions::validate`]).
     pub balanced: Option<f64>,
     /// `Some(θ)` (needs `balanced`): at the end of the squeeze (before the release), every
@@ -102,7 +107,13 @@ pub struct PhysicsCheckOptions {
     /// with `resolve=1` (default position control 42/79, 11/80); before them 19/79, 0/80
     /// (position control then: 26/79, 0/80), with `resolve=1` the same, and 9/79 at 1 kHz
     /// contacts. The springs resist squeezing, not the sideways escape of fingertip grasps (the
-    /// traced ARMAR-III salt-can grasp loses every contact within 40 ms).
+    /// traced ARMAR-III salt-can grasp loses every contact within 40 ms). With the default
+    /// armature (`physics_sweep per_cell=5 balanced=1 compliance=θ`): θ = 0.05 Barrett 35/79,
+    /// ARMAR-III 29/80 (with `resolve=1` 35/79, 30/80; with `regrip=0.01` the same); θ = 0.1
+    /// 36/79, 30/80; θ = 0.02 32/79, 27/80; `balanced = 0.3`, θ = 0.05 29/79, 29/80; ARMAR-III
+    /// alone θ = 0.2 and 0.4 25/80 — the compliant actuation of the fluidic ARMAR-III hand
+    /// ([`opengrasp_core::hand::Actuation::Compliant`], θ = 0.1), which position control beats
+    /// on the Barrett (46/79).
     pub grip_compliance: Option<f64>,
     /// `Some(θ)`: the fingers close as under a position controller with a physical gain: every
     /// joint of a closing actuator is a spring ([`super::grip::stiffen_grip`] of
@@ -117,15 +128,33 @@ pub struct PhysicsCheckOptions {
     /// lever pushed 0.59 N instead of 20 N, `opengrasp-core/tests/spring_press.rs`): θ = 0.4
     /// 43/79, 12/80 (34/79 with 1 diverged, 4/80 before the fix); 0.2 39/79 (1 diverged),
     /// 14/80; 0.6 40/79, 10/80; 0.4 without fixture 47/79, 10/80 — none raises both hands
-    /// clearly. A TorqueSwitch breakaway on top (each finger's inner closing joints locked by
+    /// clearly (with the default armature, θ = 0.4: 45/79, 22/80). A TorqueSwitch breakaway on top (each finger's inner closing joints locked by
     /// springs of 10 × their share at 1 mrad, the outermost pressing) held 24/79, 1/80. The
     /// grips that fail are out of balance by many times the weight (the fixture holds a median
     /// 11 weights on the ARMAR-III grasps): equal effort shares on every motor do not balance.
     pub spring: Option<f64>,
     /// With `balanced`: at the end of the squeeze the balanced grip is solved again on the
     /// simulator's contacts and joint positions ([`super::grip_sim::after_squeeze`]), so the
-    /// torques balance the contacts the simulated fingers actually make. Default: false.
+    /// torques balance the contacts the simulated fingers actually make (one per touching link,
+    /// the palm's kept from the evaluation while the object is clamped: see
+    /// [`super::grip_sim::simulated_evaluation`]). Default: false. Measured (`physics_sweep
+    /// per_cell=5 balanced=1 resolve=1`): ARMAR-III 19/80, as without it. (Before the simulated
+    /// contacts were merged per link and the clamped palm's kept, the re-solve found no grip on
+    /// them and changed nothing.)
     pub resolve_grip: bool,
+    /// `Some(Δ)` (needs `balanced`): a grip controller during the squeeze. Every `Δ` seconds of
+    /// `settle` the balanced grip is solved again on the simulator's contacts and joint
+    /// positions ([`super::grip_sim::simulated_evaluation`]) and commanded as the new stall
+    /// torques, as a hand with tactile sensing re-balances its finger forces while it closes;
+    /// the torques of the last solve then stay through the release and the gravity runs.
+    /// Default: `None`: it holds no more than the grip solved once. Measured (`physics_sweep
+    /// per_cell=5 balanced=1 regrip=0.01`, 30 Hz contacts, held/checked): ARMAR-III 17/80
+    /// clamped (the grip solved once 19/80, position control 23/80), 19/80 on the damped free
+    /// object (`fixture=0 tau=0.01`), with `balanced = 0.3` 17/80; Barrett 42/79 clamped, 39/79
+    /// damped free (solved once 43/79, position control 46/79). The re-solved grips do squeeze
+    /// (15–50 N smallest normal force on the traced ARMAR-III grasps), but constant torques
+    /// balanced on the contacts of one instant leave the soft contacts' dynamics out.
+    pub regrip: Option<f64>,
     /// Friction margin of the balanced grip: its contact forces stay inside cones of
     /// `grip_margin × μ`, leaving friction for gravity. Default: 0.5.
     pub grip_margin: f64,
@@ -173,6 +202,7 @@ pub struct PhysicsCheckOptions {
     /// pressed but driven on by the grip alone once undamped 19/39, 4/42; settled 20/22, 7/8.
     /// The check fails where the simulated actuation (equal effort shares, position targets
     /// past the touch) has no equilibrium near the grasp, not where a settled grip meets gravity.
+    /// With the default armature (`fixture=0 tau=0.01`): Barrett 43/79, ARMAR-III 22/80.
     pub closing_damping: Option<f64>,
     /// With `closing_damping`: time (s) over which the damping rate falls linearly from `1 / τ`
     /// to zero after `settle`. Default: 0.1.
@@ -202,6 +232,13 @@ pub struct PhysicsCheckOptions {
     /// 1e-4 with squeeze 0.2 (`per_cell=5`) 39/79, 18/80. Most failures still lose the object
     /// in the gravity-free control run (the grip's imbalance, not gravity).
     pub physics: PhysicsOptions,
+    /// Drive the fingers as the hand's actuators act ([`Hand::actuation`]) where these options
+    /// choose no actuator model themselves (`effort`, `balanced`, `spring` and
+    /// `grip_compliance` all `None`): a hand with [`Actuation::Compliant`] is checked with
+    /// `balanced = Some(1.0)` and `grip_compliance = Some(compliance)` (the balanced grip
+    /// pressed through joint springs), a hand with [`Actuation::Position`] under position
+    /// control `squeeze` past the closed configuration. Default: true.
+    pub hand_actuation: bool,
 }
 
 /// The six axis directions ±x, ±y, ±z: the default gravity directions of the physics check
@@ -224,6 +261,7 @@ impl Default for PhysicsCheckOptions {
             grip_compliance: None,
             spring: None,
             resolve_grip: false,
+            regrip: None,
             max_translation: 0.02,
             max_rotation: 0.35,
             drop_translation: 0.1,
@@ -239,11 +277,25 @@ impl Default for PhysicsCheckOptions {
                 joint_armature: 1e-3,
                 ..PhysicsOptions::default()
             },
+            hand_actuation: true,
         }
     }
 }
 
 impl PhysicsCheckOptions {
+    /// The options the check applies to `hand`: these, with the hand's own actuator model
+    /// where `hand_actuation` asks for it (see [`Self::hand_actuation`]).
+    pub fn for_hand(&self, hand: &Hand) -> Self {
+        let mut options = self.clone();
+        let chosen =
+            self.effort.is_some() || self.balanced.is_some() || self.spring.is_some() || self.grip_compliance.is_some();
+        if let (true, false, Actuation::Compliant { compliance }) = (self.hand_actuation, chosen, hand.actuation()) {
+            options.balanced = Some(1.0);
+            options.grip_compliance = Some(compliance);
+        }
+        options
+    }
+
     /// Checks the scalar options and their combination.
     ///
     /// # Errors
@@ -300,6 +352,15 @@ impl PhysicsCheckOptions {
                 name: "resolve_grip",
                 reason: "needs `balanced` (it re-solves the balanced grip)".into(),
             });
+        }
+        if let Some(interval) = self.regrip {
+            crate::planners::check_positive("regrip", interval)?;
+            if self.balanced.is_none() {
+                return Err(GraspError::InvalidParameter {
+                    name: "regrip",
+                    reason: "needs `balanced` (it re-solves the balanced grip)".into(),
+                });
+            }
         }
         if let Some(theta) = self.grip_compliance {
             crate::planners::check_positive("grip_compliance", theta)?;
@@ -413,6 +474,7 @@ pub fn physics_check_with<E: PhysicsEngine>(
         return Err(GraspError::InvalidParameter { name: "evaluation", reason: "the hand did not close".into() });
     }
     options.validate()?;
+    let options = &options.for_hand(hand);
     // The hand fixed at its pose, the closing joints commanded `squeeze` past the closed
     // configuration, the object (the scene's only one) free, its friction on the links.
     // Balanced grip: torques per joint, pressed through position targets `squeeze` past the
@@ -465,7 +527,23 @@ pub fn physics_check_with<E: PhysicsEngine>(
         if let Some(tau) = options.closing_damping {
             engine.set_object_damping(oid, 1.0 / tau, 1.0 / tau)?;
         }
-        engine.step_n(settle_steps, dt)?;
+        let grip = match (options.regrip, &grip) {
+            (Some(interval), Some(grip)) => Some(super::grip_sim::regrip_while_settling(
+                &mut engine,
+                rid,
+                hand,
+                object,
+                evaluation,
+                grip,
+                options,
+                interval,
+                settle_steps,
+            )?),
+            _ => {
+                engine.step_n(settle_steps, dt)?;
+                grip.clone()
+            }
+        };
         let imbalance = super::release_imbalance(&engine, hand, rid, oid, object, evaluation)?;
         if let Some(grip) = &grip {
             super::grip_sim::after_squeeze(&mut engine, rid, hand, object, evaluation, grip, options)?;
