@@ -115,7 +115,7 @@ pub fn grasp_tables(g: &GraspSection) -> Vec<Table> {
                 .to_string(),
         ];
         if with_physics {
-            legend.push("held: of the force-closure palm grasps simulated in rapier, those that kept the object in all six gravity directions (held/simulated).".into());
+            legend.push("held: of the force-closure palm grasps simulated in rapier, those that kept the object in all six gravity directions (held/simulated); the fingers act as the hand's actuators do: position servos pressing past the closed configuration, or, for compliant actuators such as the ARMAR-III hand's fluidic ones, balanced grip torques through joint springs.".into());
             legend.push(
                 "stat: of the same grasps, those whose contacts can balance the object's weight in all six directions with \
                  forces inside the friction cones and every actuator within its effort limit (static torque-limited test, \
