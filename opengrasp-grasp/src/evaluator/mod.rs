@@ -28,6 +28,7 @@ mod grip_sim;
 mod hand_data;
 mod options;
 mod physics;
+mod physics_options;
 mod release;
 mod static_hold;
 
@@ -55,7 +56,8 @@ pub use grip_sim::{after_squeeze, simulated_contacts, simulated_evaluation};
 pub use hand_data::hand_info;
 use hand_data::{hand_data, hand_radius, HandData};
 pub use options::EvaluatorOptions;
-pub use physics::{physics_check, physics_check_with, HoldResult, PhysicsCheckOptions, PhysicsOutcome};
+pub use physics::{physics_check, physics_check_with, HoldResult, PhysicsOutcome};
+pub use physics_options::PhysicsCheckOptions;
 pub use release::{fixture_wrench, release_gradually, undamp_gradually};
 pub use static_hold::{static_hold, ActuatorLoad, StaticDirection, StaticHoldOptions, StaticHoldOutcome};
 

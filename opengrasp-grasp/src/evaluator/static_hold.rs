@@ -58,7 +58,7 @@ pub struct StaticHoldOptions {
 impl Default for StaticHoldOptions {
     fn default() -> Self {
         Self {
-            directions: super::physics::axis_directions(),
+            directions: super::physics_options::axis_directions(),
             gravity: 9.81,
             friction: None,
             max_load_factor: 100.0,
