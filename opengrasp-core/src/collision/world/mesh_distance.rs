@@ -15,7 +15,8 @@
 //!
 //! [`mesh_contact`] does the same for parry's contact query (`contact_composite_shape_shape`:
 //! the deepest contact of the triangles whose boxes meet the shape's box loosened by the
-//! prediction distance): a triangle whose bound exceeds the prediction distance has no contact.
+//! prediction distance): a triangle whose bound exceeds the prediction distance has no contact,
+//! one whose bound exceeds the deepest contact's separation so far none deeper.
 //! [`mesh_intersects`] does it for parry's intersection test: a triangle whose bound is above
 //! zero (by the margin) cannot intersect.
 
@@ -151,7 +152,11 @@ pub(super) fn mesh_contact(
     let mut best: Option<Contact> = None;
     for part in mesh.bvh().intersect_aabb(&ls_aabb2) {
         let tri = mesh.triangle(part);
-        if bounds.exceeds(&tri, prediction) {
+        // Beyond the prediction, or separated by more than the deepest contact so far (which
+        // only a strictly deeper one replaces; the bounds are of the separation, so a
+        // penetrating best rules out the separated triangles only): no contact to take.
+        let threshold = best.map_or(prediction, |b| b.dist.max(0.0).min(prediction));
+        if bounds.exceeds(&tri, threshold) {
             continue;
         }
         if let Ok(Some(c)) = DefaultQueryDispatcher.contact(&pose12, &tri, s1, prediction) {
@@ -342,9 +347,9 @@ mod tests {
 
     /// Boxes, cylinders, capsules and balls at random poses in and around the notch, the
     /// mesh first or second: the pruned intersection test answers as parry's, on a sample
-    /// with both answers.
+    /// with both answers, and the pruned contact is parry's (penetrating ones among them).
     #[test]
-    fn intersection_equals_parrys() {
+    fn intersection_and_contact_are_parrys() {
         use rand::{Rng, SeedableRng};
         let mesh = notched_box();
         let mesh_pose = Isometry3::new(Vector3::new(0.01, -0.02, 0.0), Vector3::new(0.0, 0.0, 0.4));
@@ -355,7 +360,7 @@ mod tests {
             &Ball::new(0.008),
         ];
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
-        let (mut hits, mut misses, mut ours) = (0, 0, 0);
+        let (mut hits, mut misses, mut ours, mut deep) = (0, 0, 0, 0);
         for _ in 0..1500 {
             let t = Vector3::new(
                 rng.random_range(-0.03..0.13),
@@ -374,6 +379,11 @@ mod tests {
                     continue;
                 }
                 assert_eq!((ab, ba), (Some(parry), Some(flipped)), "at {pose:?}");
+                // The deepest contact within 1 cm (penetrating or not): parry's, every bit.
+                let contact = query::contact(&pose, shape, &mesh_pose, &mesh, 0.01).unwrap();
+                let pruned = mesh_contact(&pose, shape, &mesh_pose, &mesh, 0.01).unwrap();
+                assert_eq!(format!("{pruned:?}"), format!("{contact:?}"));
+                deep += usize::from(contact.is_some_and(|c| c.dist < 0.0));
                 ours += 1;
                 if parry {
                     hits += 1;
@@ -382,7 +392,7 @@ mod tests {
                 }
             }
         }
-        assert!(hits >= 200 && misses >= 200, "{hits} hits, {misses} misses of {ours}");
+        assert!(hits >= 200 && misses >= 200 && deep >= 100, "{hits} hits ({deep} deep), {misses} misses of {ours}");
         // Not a convex shape and a mesh: no answer.
         assert_eq!(mesh_intersects(&mesh_pose, &mesh, &mesh_pose, &mesh), None);
         let c = Cuboid::new(Vector3::repeat(0.1));
