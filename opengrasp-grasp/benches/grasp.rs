@@ -9,48 +9,17 @@
 //!
 //! Run briefly with `cargo bench -p opengrasp-grasp --bench grasp -- --warm-up-time 1 --measurement-time 3`.
 
+mod mix;
+
 use std::hint::black_box;
 
 use criterion::{criterion_main, Criterion, Throughput};
+use mix::suite_mix;
 use opengrasp_assets::{hands, objects};
-use opengrasp_core::hand::Hand;
-use opengrasp_core::object::ObjectModel;
 use opengrasp_grasp::evaluator::{EvaluatorOptions, GraspEvaluator};
-use opengrasp_grasp::planners::{GraspCandidate, GraspPlanner, GraspRequest, MedialAxisPlanner, SurfaceNormalPlanner};
+use opengrasp_grasp::planners::{GraspPlanner, GraspRequest, MedialAxisPlanner, SurfaceNormalPlanner};
 use opengrasp_grasp::quality::solver;
 use opengrasp_grasp::{ContactModel, ConvexHull, GraspWrenchSpace, HullOptions, ObjectFrame, Wrench};
-
-/// The default suite's objects: the stock objects without the measuring cup (the last one).
-fn suite_objects() -> &'static [&'static str] {
-    &objects::NAMES[..objects::NAMES.len() - 1]
-}
-
-/// Candidates per hand × object × planner in the throughput mix (evenly spaced through the
-/// planner's list, as the suite picks its capped candidates).
-const PER_CELL: usize = 4;
-
-/// One evaluator per hand × object of the suite with its share of the mix of candidates.
-fn suite_mix() -> Vec<(GraspEvaluator, ObjectModel, Vec<GraspCandidate>)> {
-    let hands: [Hand; 2] = [hands::armar3_hand(), hands::barrett()];
-    let mut mix = Vec::new();
-    for hand in &hands {
-        for &name in suite_objects() {
-            let object = objects::by_name(name).expect("stock object");
-            let ev = GraspEvaluator::new(hand, &object, EvaluatorOptions::default()).expect("evaluator");
-            let info = ev.hand_info().clone();
-            let request = GraspRequest { hand: &info, object: &object.mesh, seed: 0 };
-            let mut chosen = Vec::new();
-            let planners: [&dyn GraspPlanner; 2] = [&MedialAxisPlanner::default(), &SurfaceNormalPlanner::default()];
-            for planner in planners {
-                let all = planner.plan(&request).expect("candidates");
-                let m = PER_CELL.min(all.len());
-                chosen.extend((0..m).map(|i| all[i * all.len() / m].clone()));
-            }
-            mix.push((ev, object, chosen));
-        }
-    }
-    mix
-}
 
 /// Evaluation throughput on the suite mix: one iteration evaluates every candidate once.
 fn throughput(c: &mut Criterion) {

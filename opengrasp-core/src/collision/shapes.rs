@@ -120,14 +120,16 @@ pub(crate) struct Part {
     pub shape: SharedShape,
     /// For a triangle-mesh shape, the convex hull of its vertices (which contains it): a cheap
     /// conservative stand-in that rules out far or separated pairs before the exact
-    /// triangle-by-triangle query. `None` for convex shapes.
+    /// triangle-by-triangle query; a [`ClimbingHull`] from 64 vertices on (the same support
+    /// points, so the same GJK results, without scanning every vertex). `None` for convex
+    /// shapes.
     pub hull: Option<SharedShape>,
 }
 
 impl Part {
     /// A part, with the hull of a triangle-mesh shape.
     pub fn new(local: Isometry3<f64>, shape: SharedShape) -> Self {
-        let hull = shape.as_trimesh().and_then(|m| SharedShape::convex_hull(m.vertices()));
+        let hull = shape.as_trimesh().and_then(|m| SharedShape::convex_hull(m.vertices())).map(climbing);
         Self { local, shape, hull }
     }
 }
@@ -171,5 +173,68 @@ pub fn shapes_to_parry(shapes: &[Shape], meshes: MeshRepresentation) -> Result<S
         [] => Err(CoreError::InvalidGeometry { reason: "no shapes to convert".into() }),
         [p] if p.local == Isometry3::identity() => Ok(p.shape.clone()),
         _ => Ok(SharedShape::compound(parts.into_iter().map(|p| (p.local, p.shape)).collect())),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::{Point3, Vector3};
+    use parry3d_f64::query;
+    use parry3d_f64::shape::Cuboid;
+    use rand::{Rng, SeedableRng};
+
+    use super::*;
+
+    /// A closed prism over a star of `n` points (non-convex), as a parry triangle mesh.
+    fn star_prism(n: u32) -> SharedShape {
+        let mut pts = Vec::new();
+        for z in [0.0, 0.1] {
+            for k in 0..n {
+                let a = std::f64::consts::TAU * f64::from(k) / f64::from(n);
+                let r = if k % 2 == 0 { 0.05 } else { 0.035 };
+                pts.push(Point3::new(r * a.cos(), r * a.sin(), z));
+            }
+        }
+        pts.extend([Point3::new(0.0, 0.0, 0.0), Point3::new(0.0, 0.0, 0.1)]);
+        let mut tris = Vec::new();
+        for k in 0..n {
+            let j = (k + 1) % n;
+            tris.extend([[k, j, n + j], [k, n + j, n + k], [2 * n, j, k], [2 * n + 1, n + k, n + j]]);
+        }
+        SharedShape::trimesh(pts, tris).expect("mesh")
+    }
+
+    /// A mesh part's hull is a climbing hull from 64 vertices on, with the distances and
+    /// intersection answers of parry's plain hull bit for bit; below 64, the plain hull.
+    #[test]
+    fn mesh_hull_climbs_with_the_plain_hulls_answers() {
+        let mesh = star_prism(80);
+        let part = Part::new(Isometry3::identity(), mesh.clone());
+        let hull = part.hull.as_ref().expect("hull");
+        assert!(hull.as_shape::<ClimbingHull>().is_some());
+        let plain = SharedShape::convex_hull(mesh.as_trimesh().unwrap().vertices()).unwrap();
+        let cuboid = Cuboid::new(Vector3::new(0.02, 0.01, 0.004));
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        let (mut hits, mut misses) = (0, 0);
+        let id = Isometry3::identity();
+        for _ in 0..500 {
+            let t =
+                Vector3::new(rng.random_range(-0.1..0.1), rng.random_range(-0.1..0.1), rng.random_range(-0.05..0.15));
+            let r = Vector3::new(rng.random_range(-3.0..3.0), rng.random_range(-3.0..3.0), rng.random_range(-3.0..3.0));
+            let pose = Isometry3::new(t, r);
+            let d = query::distance(&pose, &cuboid, &id, &**hull).unwrap();
+            assert_eq!(d.to_bits(), query::distance(&pose, &cuboid, &id, &*plain).unwrap().to_bits());
+            let hit = query::intersection_test(&pose, &cuboid, &id, &**hull).unwrap();
+            assert_eq!(hit, query::intersection_test(&pose, &cuboid, &id, &*plain).unwrap());
+            if hit {
+                hits += 1;
+            } else {
+                misses += 1;
+            }
+        }
+        assert!(hits >= 50 && misses >= 50, "{hits} hits, {misses} misses");
+        // Hull vertices: the 2 x 40 outer points above, 2 x 12 here (the plain hull).
+        let small = Part::new(Isometry3::identity(), star_prism(24));
+        assert!(small.hull.as_ref().unwrap().as_convex_polyhedron().is_some());
     }
 }

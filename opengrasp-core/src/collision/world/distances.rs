@@ -301,25 +301,75 @@ impl CollisionWorld {
     ) -> Result<()> {
         self.validate(robot, q)?;
         let wanted = |l: usize| selected.get(l).copied().unwrap_or(false);
-        let n = self.robots[robot.0].n_links();
-        hints.per_link.resize(n, u32::MAX);
-        out.clear();
-        out.extend((0..n).map(|l| if wanted(l) { f64::INFINITY } else { 0.0 }));
-        with_scratch(|s| {
-            self.place_links(robot.0, q, |l: usize| out[l] > 0.0, s);
-            for item in &s.items {
-                let l = item.link.0;
-                if let Some(n) = self.item_min_distance_hinted(robot.0, item, out[l], Some(&mut hints.per_link[l])) {
-                    out[l] = out[l].min(n.distance);
-                }
-            }
-        });
+        self.hinted_link_distances(robot.0, q, out, hints, |l| if wanted(l) { f64::INFINITY } else { 0.0 });
         for (l, d) in out.iter_mut().enumerate() {
             if !wanted(l) {
                 *d = f64::INFINITY;
             }
         }
         Ok(())
+    }
+
+    /// [`link_distances_below_into`](Self::link_distances_below_into) with the searches
+    /// against triangle meshes warm-started from `hints` (updated), as
+    /// [`selected_link_distances_hinted_into`](Self::selected_link_distances_hinted_into):
+    /// `min(dₗ, bounds[l])` for every link, bit for bit, links with a bound ≤ 0 neither placed
+    /// nor queried. For callers that need a few links' distances exactly and others only when
+    /// they are below some threshold (a closing finger's links that cannot set its step unless
+    /// nearer than the step already found): a pair proven beyond its bound stops early.
+    ///
+    /// # Errors
+    /// As [`link_distances_below_into`](Self::link_distances_below_into).
+    pub fn link_distances_below_hinted_into(
+        &self,
+        robot: RobotId,
+        q: &[f64],
+        bounds: &[f64],
+        out: &mut Vec<f64>,
+        hints: &mut NearestTriangles,
+    ) -> Result<()> {
+        self.validate(robot, q)?;
+        self.check_link_bounds(robot, bounds)?;
+        self.hinted_link_distances(robot.0, q, out, hints, |l| bounds[l]);
+        Ok(())
+    }
+
+    /// One bound per link of `robot`, none NaN.
+    fn check_link_bounds(&self, robot: RobotId, bounds: &[f64]) -> Result<()> {
+        let n = self.robots[robot.0].n_links();
+        if bounds.len() != n {
+            return Err(CoreError::DimensionMismatch { expected: n, actual: bounds.len() });
+        }
+        if bounds.iter().any(|b| b.is_nan()) {
+            return Err(CoreError::NonFinite { what: "link distance bounds".into() });
+        }
+        Ok(())
+    }
+
+    /// `out[l] = min(dₗ, bound(l))` for every link of robot `rid` at `q` (validated), placing
+    /// and querying only the links with a positive bound, the mesh searches warm-started
+    /// from `hints` (resized to the link count and updated).
+    fn hinted_link_distances(
+        &self,
+        rid: usize,
+        q: &[f64],
+        out: &mut Vec<f64>,
+        hints: &mut NearestTriangles,
+        bound: impl Fn(usize) -> f64,
+    ) {
+        let n = self.robots[rid].n_links();
+        hints.per_link.resize(n, u32::MAX);
+        out.clear();
+        out.extend((0..n).map(bound));
+        with_scratch(|s| {
+            self.place_links(rid, q, |l: usize| out[l] > 0.0, s);
+            for item in &s.items {
+                let l = item.link.0;
+                if let Some(n) = self.item_min_distance_hinted(rid, item, out[l], Some(&mut hints.per_link[l])) {
+                    out[l] = out[l].min(n.distance);
+                }
+            }
+        });
     }
 
     /// `min(dₗ, bounds[l])` for every link `l`, with `dₗ` its distance of
@@ -342,13 +392,7 @@ impl CollisionWorld {
         out: &mut Vec<f64>,
     ) -> Result<()> {
         self.validate(robot, q)?;
-        let n = self.robots[robot.0].n_links();
-        if bounds.len() != n {
-            return Err(CoreError::DimensionMismatch { expected: n, actual: bounds.len() });
-        }
-        if bounds.iter().any(|b| b.is_nan()) {
-            return Err(CoreError::NonFinite { what: "link distance bounds".into() });
-        }
+        self.check_link_bounds(robot, bounds)?;
         self.bounded_link_distances(robot.0, q, out, |l| bounds[l]);
         Ok(())
     }

@@ -18,8 +18,13 @@ pub(super) fn aabb_distance(a: &Aabb, b: &Aabb) -> f64 {
 }
 
 /// Conservative intersection test: an unsupported shape pair falls back to the distance query,
-/// and counts as colliding if that is unsupported too.
+/// and counts as colliding if that is unsupported too. Convex shapes against triangle meshes
+/// skip the triangles certainly clear of the shape (`mesh_distance::mesh_intersects`, parry's
+/// answer).
 pub(super) fn intersects(p1: &Isometry3<f64>, s1: &dyn ParryShape, p2: &Isometry3<f64>, s2: &dyn ParryShape) -> bool {
+    if let Some(hit) = super::mesh_distance::mesh_intersects(p1, s1, p2, s2) {
+        return hit;
+    }
     match query::intersection_test(p1, s1, p2, s2) {
         Ok(hit) => hit,
         Err(_) => distance(p1, s1, p2, s2).is_none_or(|d| d <= 0.0),

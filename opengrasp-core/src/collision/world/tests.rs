@@ -353,7 +353,8 @@ fn open_box_trimesh() -> parry3d_f64::shape::SharedShape {
 /// Hinted link distances ([`NearestTriangles`]) along a motion of the arm in and around two
 /// open boxes (a static body and a movable object, so both searches take hints) are the
 /// plain query's bit for bit, and leave each measured link's nearest triangle as its hint;
-/// so is the hinted nearest distance ([`CollisionWorld::min_distance_hinted`]).
+/// so are the hinted nearest distance ([`CollisionWorld::min_distance_hinted`]) and the
+/// hinted bounded distances ([`CollisionWorld::link_distances_below_hinted_into`]).
 #[test]
 fn hinted_link_distances_are_the_plain_ones_bit_for_bit() {
     let mut scene = Scene::new("arm and open boxes");
@@ -368,6 +369,7 @@ fn hinted_link_distances_are_the_plain_ones_bit_for_bit() {
     let selected = vec![true; n];
     let (mut plain, mut hinted, mut hints) = (Vec::new(), Vec::new(), NearestTriangles::new());
     let mut nearest_hints = NearestTriangles::new();
+    let (mut below, mut below_hints) = (Vec::new(), NearestTriangles::new());
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     let mut compared = 0;
     for _ in 0..4 {
@@ -381,6 +383,26 @@ fn hinted_link_distances_are_the_plain_ones_bit_for_bit() {
                 hinted.iter().map(|d| d.to_bits()).collect::<Vec<_>>()
             );
             compared += plain.iter().filter(|d| d.is_finite()).count();
+            // Bounded with hints: min(distance, bound) bit for bit, the bounds by link cycling
+            // through unqueried, below, just above and beyond the distance, and unbounded.
+            // (Just above: 1 µm. Within GJK's tolerance, ~5e-8 of the distance, the hull
+            // pre-check of a mesh may rule the pair out: its GJK estimate of a distance the
+            // mesh shares with its hull can exceed the mesh's by that much.)
+            let bounds: Vec<f64> = plain
+                .iter()
+                .enumerate()
+                .map(|(l, &d)| match (l + step as usize) % 5 {
+                    0 => 0.0,
+                    1 if d.is_finite() => 0.5 * d,
+                    2 if d.is_finite() => d + 1e-6,
+                    3 => 2.0,
+                    _ => f64::INFINITY,
+                })
+                .collect();
+            world.link_distances_below_hinted_into(arm, &q, &bounds, &mut below, &mut below_hints).unwrap();
+            for ((&x, &d), &bound) in below.iter().zip(&plain).zip(&bounds) {
+                assert_eq!(x.to_bits(), d.min(bound).to_bits(), "distance {d}, bound {bound}, got {x}");
+            }
             // The nearest distance with hints: the plain one bit for bit.
             let d = world.min_distance(arm, &q).unwrap();
             assert_eq!(d.to_bits(), world.min_distance_hinted(arm, &q, &mut nearest_hints).unwrap().to_bits());
@@ -396,6 +418,17 @@ fn hinted_link_distances_are_the_plain_ones_bit_for_bit() {
     // A bad configuration is a typed error.
     assert!(world.selected_link_distances_hinted_into(arm, &[0.0; 3], &selected, &mut hinted, &mut hints).is_err());
     assert!(world.min_distance_hinted(arm, &[0.0; 3], &mut hints).is_err());
+    let q = vec![0.0; world.robots[arm.0].robot.dof()];
+    assert!(matches!(
+        world.link_distances_below_hinted_into(arm, &q, &vec![1.0; n - 1], &mut below, &mut hints),
+        Err(CoreError::DimensionMismatch { expected, actual }) if expected == n && actual == n - 1
+    ));
+    let mut nan = vec![1.0; n];
+    nan[1] = f64::NAN;
+    assert!(matches!(
+        world.link_distances_below_hinted_into(arm, &q, &nan, &mut below, &mut hints),
+        Err(CoreError::NonFinite { .. })
+    ));
 }
 
 /// The open box's corners and triangles (see [`open_box_trimesh`]).
