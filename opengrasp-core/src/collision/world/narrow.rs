@@ -31,6 +31,14 @@ pub(super) fn intersects(p1: &Isometry3<f64>, s1: &dyn ParryShape, p2: &Isometry
     }
 }
 
+/// Slack (m) of the hull pre-check of [`distance_below_hinted`], plus [`HULL_SLACK_RELATIVE`]
+/// of the bound: room for GJK's tolerance (relative ~5e-8) between a hull's distance estimate
+/// and the contained shape's where they share the nearest feature.
+const HULL_SLACK_ABSOLUTE: f64 = 1e-9;
+
+/// The part of the hull pre-check's slack proportional to the bound.
+const HULL_SLACK_RELATIVE: f64 = 1e-7;
+
 /// A placed shape with an optional convex stand-in that contains it (the hull of a triangle
 /// mesh), used to rule out pairs cheaply.
 #[derive(Clone, Copy)]
@@ -66,9 +74,13 @@ pub(super) fn intersects_placed(a: Placed<'_>, b: Placed<'_>) -> bool {
 /// (the same result; see `mesh_distance::mesh_distance_hinted`).
 pub(super) fn distance_below_hinted(a: Placed<'_>, b: Placed<'_>, bound: f64, hint: Option<&mut u32>) -> Option<f64> {
     if (a.hull.is_some() || b.hull.is_some()) && bound < f64::INFINITY {
-        match distance_within(a.pose, a.outer(), b.pose, b.outer(), bound) {
+        // The hulls' distance is a lower bound only up to GJK's tolerance: where the shape's
+        // nearest feature lies on its hull, the hull's estimate can exceed the shape's own by
+        // that much, so the pair is ruled out only beyond the bound plus that slack.
+        let rule_out = bound + HULL_SLACK_ABSOLUTE + HULL_SLACK_RELATIVE * bound.abs();
+        match distance_within(a.pose, a.outer(), b.pose, b.outer(), rule_out) {
             Bounded::Beyond => return None,
-            Bounded::Distance(lb) if lb >= bound => return None,
+            Bounded::Distance(lb) if lb >= rule_out => return None,
             _ => {}
         }
     }

@@ -385,16 +385,16 @@ fn hinted_link_distances_are_the_plain_ones_bit_for_bit() {
             compared += plain.iter().filter(|d| d.is_finite()).count();
             // Bounded with hints: min(distance, bound) bit for bit, the bounds by link cycling
             // through unqueried, below, just above and beyond the distance, and unbounded.
-            // (Just above: 1 µm. Within GJK's tolerance, ~5e-8 of the distance, the hull
-            // pre-check of a mesh may rule the pair out: its GJK estimate of a distance the
-            // mesh shares with its hull can exceed the mesh's by that much.)
+            // (Just above: 1 nm, inside GJK's tolerance of ~5e-8 of the distance, by which the
+            // hull pre-check's estimate can exceed the mesh's own where they share the
+            // nearest feature: the pre-check leaves that much slack.)
             let bounds: Vec<f64> = plain
                 .iter()
                 .enumerate()
                 .map(|(l, &d)| match (l + step as usize) % 5 {
                     0 => 0.0,
                     1 if d.is_finite() => 0.5 * d,
-                    2 if d.is_finite() => d + 1e-6,
+                    2 if d.is_finite() => d + 1e-9,
                     3 => 2.0,
                     _ => f64::INFINITY,
                 })
