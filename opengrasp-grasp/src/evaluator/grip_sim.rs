@@ -55,9 +55,9 @@ pub fn simulated_contacts<E: PhysicsEngine + ?Sized>(
 /// `engine`; clamped into their limits) and its contacts with `object`, one per touching link
 /// as the evaluator's own: the normal-force-weighted centre and mean inward normal of the link's
 /// manifold points ([`simulated_contacts`]), at their deepest penetration (a link whose
-/// normals cancel is left out). (The balanced grip
-/// asks every finger contact to press; a link's separate manifold points, some on the rim of
-/// the patch, rarely can all be pressed at once, so on the unmerged contacts it finds no grip.)
+/// normals cancel is left out). (The balanced grip asks every finger contact to press; a link's
+/// separate manifold points, some on the rim of the patch, rarely can all be pressed at once,
+/// so on the unmerged contacts it finds no grip.)
 ///
 /// # Errors
 /// As [`simulated_contacts`].
@@ -90,16 +90,7 @@ fn regrip_evaluation<E: PhysicsEngine + ?Sized>(
     let mut simulated = simulated_evaluation(engine, hand, robot, ObjectId(0), evaluation)?;
     if fixture {
         let model = hand.robot();
-        let rigid = |link: usize| {
-            let mut l = LinkId(link);
-            while let Some(j) = model.parent_joint(l) {
-                if model.joint(j).kind != JointKind::Fixed {
-                    return false;
-                }
-                l = model.joint(j).parent;
-            }
-            true
-        };
+        let rigid = |link: usize| model.chain_to(LinkId(link)).iter().all(|&j| model.joint(j).kind == JointKind::Fixed);
         let palm: Vec<GraspContact> = evaluation
             .contacts
             .iter()
