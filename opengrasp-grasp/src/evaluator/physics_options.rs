@@ -342,30 +342,22 @@ impl PhysicsCheckOptions {
                 });
             }
         }
-        if self.resolve_grip && self.balanced.is_none() {
-            return Err(GraspError::InvalidParameter {
-                name: "resolve_grip",
-                reason: "needs `balanced` (it re-solves the balanced grip)".into(),
-            });
-        }
+        // Options that act on the balanced grip, and why each needs it.
+        let needs_balanced = |name: &'static str, set: bool, why: &str| {
+            if set && self.balanced.is_none() {
+                return Err(GraspError::InvalidParameter { name, reason: format!("needs `balanced` ({why})") });
+            }
+            Ok(())
+        };
+        needs_balanced("resolve_grip", self.resolve_grip, "it re-solves the balanced grip")?;
         if let Some(interval) = self.regrip {
             crate::planners::check_positive("regrip", interval)?;
-            if self.balanced.is_none() {
-                return Err(GraspError::InvalidParameter {
-                    name: "regrip",
-                    reason: "needs `balanced` (it re-solves the balanced grip)".into(),
-                });
-            }
         }
+        needs_balanced("regrip", self.regrip.is_some(), "it re-solves the balanced grip")?;
         if let Some(theta) = self.grip_compliance {
             crate::planners::check_positive("grip_compliance", theta)?;
-            if self.balanced.is_none() {
-                return Err(GraspError::InvalidParameter {
-                    name: "grip_compliance",
-                    reason: "needs `balanced` (the springs' preload is the balanced grip)".into(),
-                });
-            }
         }
+        needs_balanced("grip_compliance", self.grip_compliance.is_some(), "the springs' preload is the balanced grip")?;
         Ok(())
     }
 }
