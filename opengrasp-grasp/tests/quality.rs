@@ -539,15 +539,29 @@ proptest! {
         let contacts = random_contacts(&mut rng, n);
         let contact_type = if soft { SOFT } else { ContactType::PointWithFriction };
         let report = GraspQuality::evaluate(&contacts, &unit_frame(), &options(mu, contact_type)).unwrap();
-        // Skip the measure-zero band where the origin is within tolerance of the boundary.
-        let near_boundary = report.min_norm_distance < 1e-5 && report.epsilon < 1e-5;
+        let ws = GraspWrenchSpace::new(&contacts, &unit_frame(), &options(mu, contact_type).contact).unwrap();
+        let wrenches = ws.wrenches();
+        // A ball of radius ε around the origin in the hull gives a zero combination with every
+        // weight ≥ t/n, t = ε/(|c|+ε) (c the wrenches' centroid): the origin is t·c plus
+        // (1−t)·(−ε c/|c|), a hull point. So the LP margin is at least that bound.
+        let centroid_norm = (wrenches.iter().sum::<Vector6<f64>>() / wrenches.len() as f64).norm();
+        let margin_bound = report.epsilon / (wrenches.len() as f64 * (centroid_norm + report.epsilon));
+        if report.epsilon > 0.0 {
+            prop_assert!(
+                report.positive_combination_margin >= margin_bound * (1.0 - 1e-6) - 1e-12,
+                "margin {} below the epsilon bound {}: {:?}", report.positive_combination_margin, margin_bound, report
+            );
+        }
+        // Skip the measure-zero band where the origin is within tolerance of the boundary: the
+        // LP margin (a convex weight, tolerance 1e-6) and ε (a distance) then need not agree.
+        let near_boundary = (report.min_norm_distance < 1e-5 && report.epsilon < 1e-5)
+            || (report.epsilon > 0.0 && margin_bound <= 1e-6 * (1.0 + 1e-6));
         if !near_boundary {
             prop_assert_eq!(report.force_closure, report.epsilon > 0.0, "{:?}", report);
             prop_assert_eq!(report.origin_in_hull, report.epsilon > 0.0, "{:?}", report);
         }
         // The min-norm QP on its own (evaluate skips it when the LP proves force closure).
-        let ws = GraspWrenchSpace::new(&contacts, &unit_frame(), &options(mu, contact_type).contact).unwrap();
-        let qp = min_norm_point(ws.wrenches()).unwrap().distance;
+        let qp = min_norm_point(wrenches).unwrap().distance;
         if !(qp < 1e-5 && report.epsilon < 1e-5) {
             prop_assert_eq!(qp <= 1e-6, report.epsilon > 0.0, "qp distance {} vs {:?}", qp, report);
         }
