@@ -283,15 +283,86 @@ impl GraspWrenchSpace {
     /// Affine dimension (0-6) spanned by the wrenches, from the singular values of the
     /// centred wrench matrix: singular values below `relative_tolerance` times the largest
     /// (or below `1e-12` absolute) do not count. An empty set has dimension 0.
+    ///
+    /// A set whose centred Gram matrix is proven well inside full rank (see
+    /// [`full_rank_certified`]) gets 6 without the singular value decomposition, the number
+    /// the decomposition gives; the others take the decomposition
+    /// ([`affine_rank_svd`](Self::affine_rank_svd)).
     pub fn affine_rank(&self, relative_tolerance: f64) -> usize {
         let n = self.wrenches.len();
         if n < 2 {
             return 0;
         }
         let mean = self.wrenches.iter().sum::<Wrench>() / n as f64;
-        let m = nalgebra::DMatrix::from_fn(6, n, |r, c| self.wrenches[c][r] - mean[r]);
-        let sv = m.singular_values();
-        let max = sv.max();
-        sv.iter().filter(|&&s| s > relative_tolerance * max && s > 1e-12).count()
+        if full_rank_certified(&self.wrenches, &mean, relative_tolerance) {
+            return 6;
+        }
+        centred_svd_rank(&self.wrenches, &mean, relative_tolerance)
     }
+
+    /// [`affine_rank`](Self::affine_rank) always from the singular value decomposition (the
+    /// reference of the tests; not for use).
+    #[doc(hidden)]
+    pub fn affine_rank_svd(&self, relative_tolerance: f64) -> usize {
+        let n = self.wrenches.len();
+        if n < 2 {
+            return 0;
+        }
+        let mean = self.wrenches.iter().sum::<Wrench>() / n as f64;
+        centred_svd_rank(&self.wrenches, &mean, relative_tolerance)
+    }
+}
+
+/// The affine rank of `wrenches` from the singular values of the wrench matrix centred on
+/// `mean` (see [`GraspWrenchSpace::affine_rank`]).
+fn centred_svd_rank(wrenches: &[Wrench], mean: &Wrench, relative_tolerance: f64) -> usize {
+    let m = nalgebra::DMatrix::from_fn(6, wrenches.len(), |r, c| wrenches[c][r] - mean[r]);
+    let sv = m.singular_values();
+    let max = sv.max();
+    sv.iter().filter(|&&s| s > relative_tolerance * max && s > 1e-12).count()
+}
+
+/// Whether the centred wrench matrix `M` (the very entries `wᵢ − mean` the decomposition
+/// reads) certainly has six singular values above `relative_tolerance` times the largest and
+/// above `1e-12`, so that the decomposition counts 6.
+///
+/// Proof: the Cholesky factorisation of `G − tI`, `G = M Mᵀ` (6 × 6) and
+/// `t = (4 tol² + 1e-8) T + 1e-22` with `T = trace G ≥ σ₁²`, completes with positive pivots
+/// only if `λ_min(G) > t − ε`, where `ε` covers the rounding of `G` (`γₙ`-relative, at most
+/// `6 γₙ T`) and of the factorisation (`≤ 6 γ₇ T`): below `1e-10 T` for up to `10⁵` wrenches,
+/// far under the `1e-8 T` of `t`. Then `σ₆ ≥ (0.99 t)^½`, at least `1.99 tol σ₁`,
+/// `1e-4 σ₁` and `0.99e-11`, while the decomposition's singular values are within
+/// `≈ 1e-12 σ₁` of the exact ones: its count is 6. Anything else is left to it.
+fn full_rank_certified(wrenches: &[Wrench], mean: &Wrench, relative_tolerance: f64) -> bool {
+    if wrenches.len() < 7 || wrenches.len() > 100_000 {
+        return false;
+    }
+    let mut g = [[0.0f64; 6]; 6];
+    for w in wrenches {
+        let m: [f64; 6] = std::array::from_fn(|r| w[r] - mean[r]);
+        for i in 0..6 {
+            for j in 0..=i {
+                g[i][j] += m[i] * m[j];
+            }
+        }
+    }
+    let trace: f64 = (0..6).map(|i| g[i][i]).sum();
+    let t = (4.0 * relative_tolerance * relative_tolerance + 1e-8) * trace + 1e-22;
+    if !t.is_finite() {
+        return false;
+    }
+    // Lower triangle of the Cholesky factor of G − tI.
+    let mut l = [[0.0f64; 6]; 6];
+    for j in 0..6 {
+        let pivot = g[j][j] - t - (0..j).map(|k| l[j][k] * l[j][k]).sum::<f64>();
+        // (NaN fails too.)
+        if pivot.is_nan() || pivot <= 0.0 {
+            return false;
+        }
+        l[j][j] = pivot.sqrt();
+        for i in j + 1..6 {
+            l[i][j] = (g[i][j] - (0..j).map(|k| l[i][k] * l[j][k]).sum::<f64>()) / l[j][j];
+        }
+    }
+    true
 }

@@ -209,3 +209,70 @@ fn empty_and_non_finite_wrench_sets_are_rejected() {
         assert!(matches!(min_norm_distance(&w), Err(GraspError::NonFinite { .. })));
     }
 }
+
+/// A wrench set of affine rank 5 (six random wrenches in `x₅ = 0` and their mean's mirror
+/// images) lifted off that hyperplane by `lift` in one wrench: the decomposition's rank is 5
+/// or 6 depending on `lift` against the tolerance, the hard case of the Gram certificate.
+fn near_flat(rng: &mut ChaCha8Rng, n: usize, lift: f64) -> Vec<Wrench> {
+    let mut w: Vec<Wrench> = (0..n)
+        .map(|_| {
+            let mut p: Wrench = Vector6::from_fn(|_, _| rng.random_range(-1.0..1.0));
+            p[5] = 0.0;
+            p
+        })
+        .collect();
+    w[0][5] = lift;
+    w
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+    /// The affine rank with the Gram-matrix certificate of full rank equals the singular
+    /// value decomposition's count on random grasp wrench spaces, near-flat sets lifted by
+    /// 1e-16 to 1 (both sides of every tolerance), scaled by 1e-9 to 1e6, for tolerances
+    /// from 0 to 0.5.
+    #[test]
+    fn certified_affine_rank_is_the_decompositions(
+        seed in 0u64..1_000_000,
+        n in 2usize..9,
+        lift_exp in -16.0f64..0.0,
+        scale_exp in -9.0f64..6.0,
+        tol_index in 0usize..5,
+        soft in proptest::bool::ANY,
+    ) {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let tol = [0.0, 1e-12, 1e-9, 1e-3, 0.5][tol_index];
+        let scale = 10f64.powf(scale_exp);
+        let contact_type = if soft { ContactType::SoftFinger { torsional_friction: 0.01 } } else { ContactType::PointWithFriction };
+        let model = ContactModel { friction: rng.random_range(0.05..1.2), cone_edges: 4 + n % 5, contact_type };
+        let sets = [
+            grasp_wrenches(&mut rng, n, &model, false),
+            grasp_wrenches(&mut rng, n, &model, true),
+            near_flat(&mut rng, 6 * n, 10f64.powf(lift_exp)),
+        ];
+        for w in sets {
+            let w: Vec<Wrench> = w.iter().map(|x| x * scale).collect();
+            let ws = GraspWrenchSpace::from_wrenches(w).unwrap();
+            prop_assert_eq!(ws.affine_rank(tol), ws.affine_rank_svd(tol), "tolerance {}", tol);
+        }
+    }
+}
+
+#[test]
+fn affine_rank_of_known_sets() {
+    // The 12 signed unit vectors span 6 dimensions; the decomposition agrees.
+    let axes: Vec<Wrench> =
+        (0..12).map(|k| Vector6::from_fn(|r, _| if r == k / 2 { 1.0 - 2.0 * (k % 2) as f64 } else { 0.0 })).collect();
+    let ws = GraspWrenchSpace::from_wrenches(axes.clone()).unwrap();
+    assert_eq!((ws.affine_rank(1e-9), ws.affine_rank_svd(1e-9)), (6, 6));
+    // Flattened by 1e-10 in the last axis: rank 6 for the tolerance 1e-12, 5 for 1e-9.
+    let flat: Vec<Wrench> = axes.iter().map(|a| Vector6::new(a[0], a[1], a[2], a[3], a[4], a[5] * 1e-10)).collect();
+    let ws = GraspWrenchSpace::from_wrenches(flat).unwrap();
+    assert_eq!(ws.affine_rank(1e-12), 6);
+    assert_eq!(ws.affine_rank(1e-9), 5);
+    // Seven points in general position span 6 (the fewest); six span at most 5.
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let seven: Vec<Wrench> = (0..7).map(|_| Vector6::from_fn(|_, _| rng.random_range(-1.0..1.0))).collect();
+    assert_eq!(GraspWrenchSpace::from_wrenches(seven.clone()).unwrap().affine_rank(1e-9), 6);
+    assert_eq!(GraspWrenchSpace::from_wrenches(seven[..6].to_vec()).unwrap().affine_rank(1e-9), 5);
+}

@@ -363,11 +363,11 @@ impl GraspEvaluator {
         // 4. Quality: force closure for every grasp; epsilon (and the opt-in hull statistics)
         // only for force-closure grasps (epsilon is 0 otherwise).
         let contacts: Vec<Contact> = evaluation.contacts.iter().map(|c| c.contact).collect();
-        let mut light = self.quality.clone();
-        light.compute_hull = false;
         let report = GraspQuality::evaluate_hull_if_closure(&contacts, &self.frame, &self.quality)?;
         evaluation.quality = Some(report);
         if self.options.friction_score {
+            let mut light = self.quality.clone();
+            light.compute_hull = false;
             evaluation.friction_score = Some(GraspQuality::friction_score(&contacts, &self.frame, &light)?);
         }
         if let Some(robust) = &self.options.robust {

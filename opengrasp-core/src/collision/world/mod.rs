@@ -11,7 +11,7 @@ mod queries;
 pub use distances::NearestTriangles;
 
 use std::cell::RefCell;
-use std::sync::Arc;
+use std::sync::{Arc, Weak};
 
 use nalgebra::Isometry3;
 use parry3d_f64::bounding_volume::Aabb;
@@ -176,6 +176,14 @@ struct Scratch {
     items: Vec<Item>,
     /// `(lower bound, item index)` for the distance search.
     order: Vec<(f64, u32)>,
+    /// The robot (held weakly, so its address is not reused while it is remembered) and the
+    /// configuration `link_poses` holds root-frame poses of, and per link whether its entry
+    /// holds that pose: `place_links` computes only the missing ones (the same operations on
+    /// the same inputs would give the same bits), so queries of several worlds or rounds at
+    /// one configuration share the forward kinematics.
+    fk_robot: Weak<Robot>,
+    fk_q: Vec<f64>,
+    fk_posed: Vec<bool>,
 }
 
 /// The nearest obstacle found by a distance search.

@@ -1,6 +1,7 @@
 //! Queries of a placed robot: collision, distance and contacts.
 
 use std::ops::ControlFlow;
+use std::sync::Arc;
 
 use nalgebra::Isometry3;
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
@@ -55,11 +56,25 @@ impl CollisionWorld {
                 link = robot.joint(j).parent;
             }
         }
+        // Poses computed at this very configuration of this robot are kept.
+        let same = std::ptr::eq(scratch.fk_robot.as_ptr(), Arc::as_ptr(&r.robot))
+            && scratch.fk_q.len() == q.len()
+            && scratch.fk_q.iter().zip(q).all(|(a, b)| a.to_bits() == b.to_bits());
+        if !same {
+            scratch.fk_robot = Arc::downgrade(&r.robot);
+            scratch.fk_q.clear();
+            scratch.fk_q.extend_from_slice(q);
+            scratch.fk_posed.clear();
+        }
+        scratch.fk_posed.resize(robot.links().len(), false);
         let poses = &mut scratch.link_poses;
         poses.resize(robot.links().len(), Isometry3::identity());
         poses[robot.root().0] = Isometry3::identity();
         for &j in robot.joints_topological().iter().filter(|j| scratch.joints[j.0]) {
             let joint = robot.joint(j);
+            if std::mem::replace(&mut scratch.fk_posed[joint.child.0], true) {
+                continue;
+            }
             poses[joint.child.0] = if r.fixed_link[joint.child.0] {
                 r.link_poses[joint.child.0]
             } else {

@@ -116,8 +116,9 @@ fn same_bits(a: &Isometry3<f64>, b: &Isometry3<f64>) -> bool {
 
 /// Asserts that placing the links of `mask` at `q` gives each placed part (and part of the
 /// carried object) the very pose and bounding box of full forward kinematics (the placement
-/// every query used before `place_links`), in the same order, and places nothing else.
-fn assert_placement_matches_full_fk(world: &CollisionWorld, robot: RobotId, q: &[f64], mask: &[bool]) {
+/// every query used before `place_links`), in the same order, and places nothing else; with
+/// the scratch `s` (and whatever poses it remembers).
+fn assert_placement_matches_full_fk(world: &CollisionWorld, robot: RobotId, q: &[f64], mask: &[bool], s: &mut Scratch) {
     let r = &world.robots[robot.0];
     let mut full_poses = Vec::new();
     crate::kinematics::forward_kinematics_into(&r.robot, q, &mut full_poses);
@@ -126,8 +127,7 @@ fn assert_placement_matches_full_fk(world: &CollisionWorld, robot: RobotId, q: &
     let (object, att) = world.objects.iter().find_map(|o| o.attached.as_ref().map(|a| (o, a))).unwrap();
     let carried = r.base_pose * full_poses[att.link.0] * att.offset;
     reference.extend(object.parts.iter().map(|p| (att.link, carried * p.local)));
-    let mut s = Scratch::default();
-    world.place_links(robot.0, q, |l| mask[l], &mut s);
+    world.place_links(robot.0, q, |l| mask[l], s);
     let expected: Vec<&(LinkId, Isometry3<f64>)> = reference.iter().filter(|(l, _)| mask[l.0]).collect();
     assert_eq!(s.items.len(), expected.len(), "{mask:?}");
     for (item, (link, pose)) in s.items.iter().zip(expected) {
@@ -153,7 +153,7 @@ fn placed_links_match_full_forward_kinematics() {
             .chain(std::iter::once((0..n).map(|_| rng.random_bool(0.5)).collect()))
             .chain(std::iter::once(vec![true; n]));
         for mask in masks {
-            assert_placement_matches_full_fk(&world, robot, &q, &mask);
+            assert_placement_matches_full_fk(&world, robot, &q, &mask, &mut Scratch::default());
         }
     }
 }
@@ -161,6 +161,42 @@ fn placed_links_match_full_forward_kinematics() {
 /// Only the root (the torso) is behind fixed joints alone: the tool hangs on a fixed joint
 /// but behind revolute ones. Its copied pose and box follow base moves, configuration changes
 /// and scene syncs bit for bit.
+/// One scratch shared by placements that alternate configurations (repeated and fresh),
+/// link masks and two worlds of the same robot moved to different bases, with a world of a
+/// new robot built in between (possibly at a freed address): every placement is full
+/// forward kinematics bit for bit, the poses the scratch remembers included.
+#[test]
+fn remembered_link_poses_match_full_forward_kinematics() {
+    let mut rng = ChaCha8Rng::seed_from_u64(19);
+    let mut s = Scratch::default();
+    // Two worlds of one scene hold the same robot.
+    let (scene, robot) = two_arm_scene();
+    let mut a = CollisionWorld::new(&scene).unwrap();
+    let mut b = CollisionWorld::new(&scene).unwrap();
+    let n = a.robots[robot.0].n_links();
+    let qs: Vec<Vec<f64>> = (0..4).map(|_| random_q(&a.robots[robot.0].robot, &mut rng)).collect();
+    let (mut placed, mut reused) = (0, 0);
+    for round in 0..60 {
+        // Each configuration for three placements in a row, then another (or a random one).
+        let q = if round % 7 == 6 { &qs[rng.random_range(0..qs.len())] } else { &qs[(round / 3) % qs.len()] };
+        let mask: Vec<bool> = (0..n).map(|_| rng.random_bool(0.4)).collect();
+        let base = Isometry3::translation(rng.random_range(-1.0..1.0), 0.2, 0.0);
+        let world = if round % 2 == 0 { &mut a } else { &mut b };
+        world.set_robot_base_pose(robot, base).unwrap();
+        // Links whose pose the scratch holds for this configuration already.
+        if s.fk_q == *q {
+            reused += (0..n).filter(|&l| mask[l] && s.fk_posed.get(l).copied().unwrap_or(false)).count();
+        }
+        assert_placement_matches_full_fk(world, robot, q, &mask, &mut s);
+        placed += mask.iter().filter(|&&m| m).count();
+        if round % 20 == 19 {
+            // A new robot of the same shape (the old one dropped): nothing remembered applies.
+            b = two_arm_world().0;
+        }
+    }
+    assert!(placed >= 150 && reused >= 40, "only {placed} links placed, {reused} remembered");
+}
+
 #[test]
 fn links_behind_fixed_joints_follow_the_base() {
     let (mut scene, robot) = two_arm_scene();
@@ -185,7 +221,7 @@ fn links_behind_fixed_joints_follow_the_base() {
             world.sync(&scene).unwrap();
         }
         let q = random_q(&model, &mut rng);
-        assert_placement_matches_full_fk(&world, robot, &q, &all);
+        assert_placement_matches_full_fk(&world, robot, &q, &all, &mut Scratch::default());
         // The torso's box is where the moved base puts it (a 0.3 × 0.4 × 0.5 m box).
         let mut s = Scratch::default();
         world.place(robot.0, &q, &mut s);

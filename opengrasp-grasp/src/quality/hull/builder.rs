@@ -461,8 +461,9 @@ impl<'a, D: Dim> Builder<'a, D> {
                 // Spot-check two vertices (one is not the apex) against drift of the
                 // parents' normals; with exact planes, every vertex to 1e-14 · scale.
                 let on = |v: &usize, tol: f64| (dot(normal, &self.pts[v * d..][..d]) - b).abs() <= tol * self.scale;
+                // (The apex is on the plane exactly: `b` is its own dot product.)
                 let on_plane = if self.exact_planes {
-                    vs[..d].iter().all(|v| on(v, 1e-14))
+                    vs[..d].iter().filter(|&&v| v != apex).all(|v| on(v, 1e-14))
                 } else {
                     [vs[0], vs[d - 1]].iter().all(|v| on(v, 1e-11))
                 };

@@ -7,6 +7,10 @@ use super::builder::Dim;
 use super::dot;
 
 /// Greedy (pivoted Gram-Schmidt) choice of `d + 1` affinely independent points.
+///
+/// Each point's residual (its offset from the first point, less its projections on the
+/// chosen directions, subtracted one after the other) is kept and updated by each new
+/// direction only: the same operations in the same order as recomputing it every round.
 pub(super) fn initial_simplex(d: usize, pts: &[f64], unique: &[usize], scale: f64) -> Result<Vec<usize>> {
     let degenerate = |rank| GraspError::DegenerateHull { dimension: d, affine_rank: rank };
     if unique.is_empty() || scale == 0.0 {
@@ -16,33 +20,37 @@ pub(super) fn initial_simplex(d: usize, pts: &[f64], unique: &[usize], scale: f6
     // Start from the point with the smallest first coordinate, then add the point farthest
     // from the affine span of the chosen ones.
     let first = *unique.iter().min_by(|&&a, &&b| p(a)[0].total_cmp(&p(b)[0])).unwrap_or(&unique[0]);
-    let mut simplex = vec![first];
-    let mut basis: Vec<Vec<f64>> = Vec::with_capacity(d);
-    let mut r = vec![0.0; d];
+    let mut simplex = Vec::with_capacity(d + 1);
+    simplex.push(first);
+    let mut residuals = Vec::with_capacity(unique.len() * d);
+    for &i in unique {
+        residuals.extend(p(i).iter().zip(p(first)).map(|(a, b)| a - b));
+    }
+    let mut v = vec![0.0; d];
     for k in 0..d {
-        let mut best = (0.0, usize::MAX, Vec::new());
-        for &i in unique {
-            for (rj, (a, b)) in r.iter_mut().zip(p(i).iter().zip(p(first))) {
-                *rj = a - b;
-            }
-            for q in &basis {
-                let s = dot(q, &r);
-                for (rj, qj) in r.iter_mut().zip(q) {
-                    *rj -= s * qj;
-                }
-            }
-            let norm = dot(&r, &r).sqrt();
+        let mut best = (0.0, usize::MAX);
+        for (slot, r) in residuals.chunks_exact(d).enumerate() {
+            let norm = dot(r, r).sqrt();
             if norm > best.0 {
-                best = (norm, i, r.clone());
+                best = (norm, slot);
             }
         }
         if best.0 <= 1e-12 * scale {
             return Err(degenerate(k));
         }
-        let (norm, i, mut v) = best;
-        v.iter_mut().for_each(|x| *x /= norm);
-        simplex.push(i);
-        basis.push(v);
+        let (norm, slot) = best;
+        for (x, r) in v.iter_mut().zip(&residuals[slot * d..][..d]) {
+            *x = r / norm;
+        }
+        simplex.push(unique[slot]);
+        if k + 1 < d {
+            for r in residuals.chunks_exact_mut(d) {
+                let s = dot(&v, r);
+                for (rj, vj) in r.iter_mut().zip(&v) {
+                    *rj -= s * vj;
+                }
+            }
+        }
     }
     Ok(simplex)
 }

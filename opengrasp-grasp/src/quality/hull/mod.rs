@@ -363,6 +363,82 @@ mod tests {
         assert!((h.depth(&[0.0, 0.0, 0.0]) - 1.0).abs() < 1e-6);
     }
 
+    /// The initial simplex as it was first written (every residual recomputed from the
+    /// first point each round): the oracle of the incremental one.
+    fn initial_simplex_recomputed(d: usize, pts: &[f64], unique: &[usize], scale: f64) -> Result<Vec<usize>> {
+        let degenerate = |rank| GraspError::DegenerateHull { dimension: d, affine_rank: rank };
+        if unique.is_empty() || scale == 0.0 {
+            return Err(degenerate(0));
+        }
+        let p = |i: usize| &pts[i * d..][..d];
+        let first = *unique.iter().min_by(|&&a, &&b| p(a)[0].total_cmp(&p(b)[0])).unwrap_or(&unique[0]);
+        let mut simplex = vec![first];
+        let mut basis: Vec<Vec<f64>> = Vec::with_capacity(d);
+        let mut r = vec![0.0; d];
+        for k in 0..d {
+            let mut best = (0.0, usize::MAX, Vec::new());
+            for &i in unique {
+                for (rj, (a, b)) in r.iter_mut().zip(p(i).iter().zip(p(first))) {
+                    *rj = a - b;
+                }
+                for q in &basis {
+                    let s = dot(q, &r);
+                    for (rj, qj) in r.iter_mut().zip(q) {
+                        *rj -= s * qj;
+                    }
+                }
+                let norm = dot(&r, &r).sqrt();
+                if norm > best.0 {
+                    best = (norm, i, r.clone());
+                }
+            }
+            if best.0 <= 1e-12 * scale {
+                return Err(degenerate(k));
+            }
+            let (norm, i, mut v) = best;
+            v.iter_mut().for_each(|x| *x /= norm);
+            simplex.push(i);
+            basis.push(v);
+        }
+        Ok(simplex)
+    }
+
+    /// The incremental initial simplex picks the very points of the recomputing one, and
+    /// fails with the same rank, on random clouds in 2-7 dimensions (some flattened to a
+    /// lower rank, some with duplicates left out of `unique`).
+    #[test]
+    fn incremental_initial_simplex_matches_the_recomputed_one() {
+        let mut rng = ChaCha8Rng::seed_from_u64(23);
+        let mut degenerate = 0;
+        for case in 0..3000 {
+            let d = 2 + case % 6;
+            let n = rng.random_range(1..40);
+            let mut pts: Vec<f64> = (0..n * d).map(|_| rng.random_range(-1.0..1.0)).collect();
+            // A quarter of the clouds lie in a lower-dimensional subspace.
+            let flat = if case % 4 == 0 { rng.random_range(1..d) } else { d };
+            pts.chunks_exact_mut(d).for_each(|p| p[flat..].iter_mut().for_each(|x| *x = 0.0));
+            let unique: Vec<usize> = (0..n).filter(|i| i % 7 != 3).collect();
+            if unique.is_empty() {
+                continue;
+            }
+            let scale = pts.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+            let fast = linalg::initial_simplex(d, &pts, &unique, scale);
+            let slow = initial_simplex_recomputed(d, &pts, &unique, scale);
+            match (fast, slow) {
+                (Ok(a), Ok(b)) => assert_eq!(a, b, "case {case}"),
+                (
+                    Err(GraspError::DegenerateHull { affine_rank: a, .. }),
+                    Err(GraspError::DegenerateHull { affine_rank: b, .. }),
+                ) => {
+                    assert_eq!(a, b, "case {case}");
+                    degenerate += 1;
+                }
+                (a, b) => panic!("case {case}: {a:?} vs {b:?}"),
+            }
+        }
+        assert!(degenerate >= 500, "only {degenerate} degenerate clouds");
+    }
+
     #[test]
     fn determinant_of_known_matrix() {
         let mut m = vec![2.0, 0.0, 1.0, 1.0, 3.0, 2.0, 1.0, 1.0, 2.0];
