@@ -63,6 +63,8 @@ struct Trace {
     lost: Vec<String>,
     /// Time (s) after the release at which the object first moved `ESCAPE_AT`.
     escape: Option<f64>,
+    /// The object's speed (m/s) 10 ms after the release.
+    kick: f64,
     /// The check pressed a balanced grip (`false`: the hand's actuation has none, or no balanced
     /// grip squeezes and the check fell back to position control).
     balanced: bool,
@@ -105,6 +107,7 @@ fn trace(
         palm: start.iter().filter(|l| l.0 == palm).map(|l| l.1).sum(),
         lost: Vec::new(),
         escape: None,
+        kick: 0.0,
         balanced: match options.balanced {
             Some(f) => {
                 grip_torques(hand, object, grasp, f, options.grip_margin, options.physics.coupled_actuators)?.squeezes()
@@ -119,6 +122,9 @@ fn trace(
     for k in 1..=chunks {
         engine.step_n((EVERY / dt).round() as usize, dt)?;
         let moved = (engine.object_pose(ObjectId(0))?.translation.vector - origin).norm();
+        if k == 1 {
+            out.kick = engine.object_velocity(ObjectId(0))?.linear.norm();
+        }
         if show && k <= 10 {
             let v = engine.object_velocity(ObjectId(0))?;
             let now = link_forces(&engine, robot, grasp)?;
@@ -193,9 +199,9 @@ fn describe<E: PhysicsEngine>(
     Ok(())
 }
 
-/// One class of the table: failures, their μΣN/mg and release pushes, examples, and how many
-/// had a balanced grip.
-type Row = (usize, Vec<f64>, Vec<f64>, Vec<String>, usize);
+/// One class of the table: failures, their μΣN/mg and release pushes, examples, how many had a
+/// balanced grip, and their speeds 10 ms after the release.
+type Row = (usize, Vec<f64>, Vec<f64>, Vec<String>, usize, Vec<f64>);
 
 const CLASSES: [&str; 5] = ["gravity", "unbalanced", "lost contact", "creep", "diverged"];
 
@@ -234,8 +240,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             continue;
         }
         // Per class: count, μΣN/mg, release pushes, examples.
-        let mut table: Vec<Row> = (0..CLASSES.len()).map(|_| (0, Vec::new(), Vec::new(), Vec::new(), 0)).collect();
-        let (mut checked, mut held) = (0, 0);
+        let mut table: Vec<Row> =
+            (0..CLASSES.len()).map(|_| (0, Vec::new(), Vec::new(), Vec::new(), 0, Vec::new())).collect();
+        let (mut checked, mut held, mut held_kicks) = (0, 0, Vec::new());
         for common::ObjectSample { object, planners } in common::paper_sample(&hand, per_cell)? {
             let weight = object.inertial.mass * options.gravity;
             for (p, sample) in planners.iter().enumerate() {
@@ -257,19 +264,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         .map_or(0.0, |d| d.load_factor);
                     let verdict = if outcome.held() { "held".to_string() } else { format!("{:?}", outcome.result()) };
                     println!(
-                        "{name:8} {id:20} {verdict:14} sum N {:7.2} N (palm {:5.2}), mu sum N / mg {:6.2}, push / mg {:6.2}, static load {:5.2}, grip moved {:.3} m, escape {:>6}, balanced {}, lost {:?}",
+                        "{name:8} {id:20} {verdict:14} sum N {:7.2} N (palm {:5.2}), mu sum N / mg {:6.2}, push / mg {:6.2}, static load {:5.2}, grip moved {:.3} m, speed at 10 ms {:.3} m/s, escape {:>6}, balanced {}, lost {:?}",
                         t.normal,
                         t.palm,
                         object.friction * t.normal / weight,
                         outcome.release_push,
                         load,
                         outcome.grip_translation,
+                        t.kick,
                         t.escape.map_or("-".to_string(), |s| format!("{s:.2} s")),
                         t.balanced,
                         t.lost
                     );
                     if outcome.held() {
                         held += 1;
+                        held_kicks.push(t.kick);
                         continue;
                     }
                     let row = &mut table[class(&outcome, &t)];
@@ -277,19 +286,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     row.1.push(object.friction * t.normal / weight);
                     row.2.push(outcome.release_push);
                     row.4 += usize::from(t.balanced);
+                    row.5.push(t.kick);
                     if row.3.len() < 3 {
                         row.3.push(format!("{id} (lost {:?})", t.lost));
                     }
                 }
             }
         }
-        println!("{name}: held {held}/{checked}");
-        println!("{name}: | class | failures | with a balanced grip | median μΣN/mg | median push/mg | examples |");
-        for (label, (n, strength, push, examples, balanced)) in CLASSES.iter().zip(&mut table) {
+        println!(
+            "{name}: held {held}/{checked} (median speed 10 ms after the release {:.3} m/s)",
+            median(&mut held_kicks)
+        );
+        println!("{name}: | class | failures | with a balanced grip | median μΣN/mg | median push/mg | median speed at 10 ms (m/s) | examples |");
+        for (label, (n, strength, push, examples, balanced, kick)) in CLASSES.iter().zip(&mut table) {
             println!(
-                "{name}: | {label} | {n} | {balanced} | {:.1} | {:.2} | {} |",
+                "{name}: | {label} | {n} | {balanced} | {:.1} | {:.2} | {:.3} | {} |",
                 median(strength),
                 median(push),
+                median(kick),
                 examples.join("; ")
             );
         }
