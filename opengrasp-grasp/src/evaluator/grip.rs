@@ -12,6 +12,14 @@
 //!            τ_i · closing_i ≥ 0                                     (closing joints press closed)
 //! ```
 //!
+//! A joint standing at the limit of its closing direction (as the evaluator's closing leaves
+//! joints whose fingers close fully, or are pressed closed by their contacts) keeps only
+//! `τ_i · closing_i ≤ fraction · share_i`: its stop takes any torque that would close it
+//! further, so its contacts may press it closed (or it presses with less than nothing). Its
+//! reported torque is its motor's part, `max(τ_i · closing_i, 0)` in the closing direction.
+//! Without the rule, the benchmark grasps whose fingertips or thumb base rest at a stop had no
+//! balanced grip at all (ARMAR-III: 59 of 80 without it, 35 with it; `physics_classes` example).
+//!
 //! per **joint** `i` (not per actuator): the simulator drives coupled joints with separate
 //! motors, so each joint must balance its own contacts. `share_i` is the joint's part of its
 //! actuator's effort limit (with coupling, `limit |m_i| / Σ m_k²`, as
@@ -127,6 +135,10 @@ pub fn grip_torques(
     let joints: Vec<(JointId, usize, f64, f64)> = (0..robot.joints().len())
         .filter_map(|i| joint_share(robot, JointId(i), coupled).map(|(d, m, s)| (JointId(i), d, m, s * fraction)))
         .collect();
+    // Joints at the end of their closing range: the stop takes any torque that would close them
+    // further, so they press with at most their cap but need not press at all.
+    let stopped: Vec<bool> =
+        joints.iter().map(|&(j, dof, m, _)| at_closing_stop(robot, q, j, closing, dof, m)).collect();
     let nc = evaluation.contacts.len();
     // torque[c][i][k]: torque on joint i per newton of contact c's local component k.
     let mut frames = Vec::with_capacity(nc);
@@ -168,7 +180,7 @@ pub fn grip_torques(
     // contacts after a finger lost its object): nothing to squeeze with, and the program's
     // smallest driven normal force would be unbounded.
     let x = if (0..nc).any(driven) {
-        solve(&frames, &levers, &torque, &joints, closing, mu, radius)?
+        solve(&frames, &levers, &torque, &joints, &stopped, closing, mu, radius)?
     } else {
         vec![0.0; 3 * nc + 1]
     };
@@ -177,15 +189,41 @@ pub fn grip_torques(
     let joints = joints
         .iter()
         .enumerate()
-        .map(|(i, &(j, dof, _, limit))| JointTorque {
-            joint: j.0,
-            dof,
-            torque: (0..nc).map(|c| (0..3).map(|k| torque[c][i][k] * x[3 * c + k]).sum::<f64>()).sum(),
-            limit,
+        .map(|(i, &(j, dof, m, limit))| {
+            let total: f64 = (0..nc).map(|c| (0..3).map(|k| torque[c][i][k] * x[3 * c + k]).sum::<f64>()).sum();
+            // A stopped joint's motor presses with the closing part of it, its stop takes the rest.
+            let s = closing_sign(closing, dof, m);
+            let torque = if stopped[i] { s * (s * total).max(0.0) } else { total };
+            JointTorque { joint: j.0, dof, torque, limit }
         })
         .collect();
     let min_normal = (0..nc).filter(|&c| driven(c)).map(|c| x[3 * c]).fold(f64::INFINITY, f64::min);
     Ok(GripTorques { contact_forces, joints, min_normal: if min_normal.is_finite() { min_normal } else { 0.0 } })
+}
+
+/// +1 / −1: the direction in which joint `m`-coupled to `dof` closes; 0 for joints whose dof
+/// does not close (spread joints).
+fn closing_sign(closing: &[f64], dof: usize, m: f64) -> f64 {
+    match closing.get(dof) {
+        Some(&v) if v != 0.0 => v.signum() * m.signum(),
+        _ => 0.0,
+    }
+}
+
+/// Joints within this (rad or m) of a limit are on it: the evaluator's closing stops a joint
+/// exactly at its limit.
+const STOP_TOLERANCE: f64 = 1e-6;
+
+/// True if joint `j` (driven by `dof` with factor `m`) closes and stands at the limit of its
+/// closing direction in configuration `q`: its stop, not its motor, resists any further closing.
+fn at_closing_stop(robot: &Robot, q: &[f64], j: JointId, closing: &[f64], dof: usize, m: f64) -> bool {
+    let Some(limits) = robot.joint(j).limits else { return false };
+    let position = robot.joint_position(q, j);
+    match closing_sign(closing, dof, m) {
+        s if s > 0.0 => position >= limits.upper - STOP_TOLERANCE,
+        s if s < 0.0 => position <= limits.lower + STOP_TOLERANCE,
+        _ => false,
+    }
 }
 
 /// The grip of a hand that simply closes: every joint driven by a closing actuator (non-zero
@@ -275,11 +313,13 @@ pub fn stiffen_grip<E: PhysicsEngine + ?Sized>(
 }
 
 /// The program of the module docs; returns the local force components (3 per contact) and `t`.
+#[allow(clippy::too_many_arguments)]
 fn solve(
     frames: &[Matrix3<f64>],
     levers: &[Vector3<f64>],
     torque: &[Vec<[f64; 3]>],
     joints: &[(JointId, usize, f64, f64)],
+    stopped: &[bool],
     closing: &[f64],
     mu: f64,
     radius: f64,
@@ -294,13 +334,7 @@ fn solve(
     let mut cols: Vec<Vec<(usize, f64)>> = vec![Vec::new(); nx];
     let mut b = vec![0.0; rows];
     // +1 / −1: the joint must press in its closing direction; 0: spread joints (either way).
-    let sign: Vec<f64> = joints
-        .iter()
-        .map(|&(_, dof, m, _)| match closing.get(dof) {
-            Some(&v) if v != 0.0 => v.signum() * m.signum(),
-            _ => 0.0,
-        })
-        .collect();
+    let sign: Vec<f64> = joints.iter().map(|&(_, dof, m, _)| closing_sign(closing, dof, m)).collect();
     for c in 0..nc {
         for k in 0..3 {
             let col = &mut cols[3 * c + k];
@@ -312,9 +346,16 @@ fn solve(
             }
             for i in 0..nj {
                 let t = torque[c][i][k];
-                col.push((6 + 3 * i, t));
-                col.push((6 + 3 * i + 1, -t));
-                col.push((6 + 3 * i + 2, -sign[i] * t));
+                // A stopped joint keeps only its cap in the closing direction (sign[i] · τ ≤ cap).
+                if !stopped[i] || sign[i] > 0.0 {
+                    col.push((6 + 3 * i, t));
+                }
+                if !stopped[i] || sign[i] < 0.0 {
+                    col.push((6 + 3 * i + 1, -t));
+                }
+                if !stopped[i] {
+                    col.push((6 + 3 * i + 2, -sign[i] * t));
+                }
             }
             col.push((6 + nonneg + 3 * c + k, if k == 0 { -mu } else { -1.0 }));
         }
@@ -342,4 +383,42 @@ fn solve(
     let mut cones = vec![SupportedConeT::ZeroConeT(6), SupportedConeT::NonnegativeConeT(nonneg)];
     cones.extend((0..nc).map(|_| SupportedConeT::SecondOrderConeT(3)));
     super::static_hold::solve_conic("grip torques socp", rows, cols, &q, &b, &cones)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two contacts pinching the object along x, 3 cm either side of its centre: contact 0 (at
+    /// +x, pressing towards −x) on joint 0, whose lever makes a pressing contact *open* it
+    /// (−5 cm per newton of normal force), contact 1 (at −x) on joint 1, which presses it
+    /// closed (+5 cm). Both joints close in the positive direction, caps 1 N·m.
+    fn pinch(stopped: [bool; 2]) -> Vec<f64> {
+        let frame = |n: f64| Matrix3::from_columns(&[Vector3::x() * n, Vector3::y(), Vector3::z() * n]);
+        let frames = [frame(-1.0), frame(1.0)];
+        let levers = [Vector3::x() * 0.03, -Vector3::x() * 0.03];
+        let torque = vec![vec![[-0.05, 0.0, 0.0], [0.0; 3]], vec![[0.0; 3], [0.05, 0.0, 0.0]]];
+        let joints = [(JointId(0), 0, 1.0, 1.0), (JointId(1), 1, 1.0, 1.0)];
+        solve(&frames, &levers, &torque, &joints, &stopped, &[1.0, 1.0], 0.5, 0.05).unwrap()
+    }
+
+    #[test]
+    fn a_joint_that_would_open_cannot_squeeze_off_its_stop() {
+        // Joint 0 may only press closed: its contact cannot press, so nothing balances the other.
+        let x = pinch([false, false]);
+        assert!(x[0].abs() < 1e-6 && x[3].abs() < 1e-6, "{x:?}");
+    }
+
+    #[test]
+    fn a_joint_on_its_closing_stop_lets_the_stop_take_the_opening_torque() {
+        // On its stop, joint 0's contact presses with whatever joint 1 can balance: 1 N·m over
+        // 5 cm, 20 N on both contacts.
+        let x = pinch([true, false]);
+        assert!((x[0] - 20.0).abs() < 1e-4 && (x[3] - 20.0).abs() < 1e-4, "{x:?}");
+        assert!((x[6] - 20.0).abs() < 1e-4, "t = {}", x[6]);
+        // The stop does not lift the cap in the closing direction: joint 1 on its stop still
+        // presses with at most 1 N·m.
+        let x = pinch([true, true]);
+        assert!((x[3] - 20.0).abs() < 1e-4, "{x:?}");
+    }
 }

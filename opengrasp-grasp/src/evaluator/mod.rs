@@ -56,7 +56,7 @@ pub use grip_sim::{after_squeeze, simulated_contacts, simulated_evaluation};
 pub use hand_data::hand_info;
 use hand_data::{hand_data, hand_radius, HandData};
 pub use options::EvaluatorOptions;
-pub use physics::{physics_check, physics_check_with, HoldResult, PhysicsOutcome};
+pub use physics::{physics_check, physics_check_with, settle_grip, HoldResult, PhysicsOutcome, SettledGrip};
 pub use physics_options::PhysicsCheckOptions;
 pub use release::{fixture_wrench, release_gradually, undamp_gradually};
 pub use static_hold::{static_hold, ActuatorLoad, StaticDirection, StaticHoldOptions, StaticHoldOutcome};

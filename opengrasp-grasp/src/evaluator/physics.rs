@@ -3,7 +3,7 @@
 use nalgebra::{Isometry3, Vector3};
 use opengrasp_core::hand::Hand;
 use opengrasp_core::physics::{PhysicsEngine, RapierBackend};
-use opengrasp_core::scene::ObjectId;
+use opengrasp_core::scene::{ObjectId, RobotId};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{GraspError, Result};
@@ -112,33 +112,8 @@ pub fn physics_check_with<E: PhysicsEngine>(
     }
     options.validate()?;
     let options = &options.for_hand(hand);
-    // The hand fixed at its pose, the closing joints commanded `squeeze` past the closed
-    // configuration, the object (the scene's only one) free, its friction on the links.
-    // Balanced grip: torques per joint, pressed through position targets `squeeze` past the
-    // closed configuration with the motor forces capped at the torques.
-    let grip = match options.balanced {
-        Some(f) => Some(super::grip::grip_torques(
-            hand,
-            object,
-            evaluation,
-            f,
-            options.grip_margin,
-            options.physics.coupled_actuators,
-        )?),
-        None => None,
-    }
-    // No balanced grip at all (every torque zero): the grasp is checked as without `balanced`.
-    .filter(super::grip::GripTorques::squeezes);
-    let squeeze = TactileSeriesOptions {
-        squeeze: options.squeeze,
-        effort: if grip.is_some() { None } else { options.effort },
-        gravity: Vector3::zeros(),
-        physics: options.physics.clone(),
-        ..TactileSeriesOptions::default()
-    };
-    let oid = ObjectId(0);
     let dt = options.physics.timestep;
-    let (settle_steps, steps) = ((options.settle / dt).ceil() as usize, (options.duration / dt).ceil() as usize);
+    let steps = (options.duration / dt).ceil() as usize;
     let mut gravities = Vec::with_capacity(options.directions.len());
     for dir in &options.directions {
         let n = dir.norm();
@@ -147,63 +122,18 @@ pub fn physics_check_with<E: PhysicsEngine>(
         }
         gravities.push(dir * (options.gravity / n));
     }
-    // The squeezing fingers settle without gravity (the object clamped with `fixture`), the
-    // object is released: the state every run starts from.
-    let settled = || -> Result<(E, f64)> {
-        let (mut engine, rid) = squeeze_engine::<E>(hand, object, evaluation, &squeeze)?;
-        if let Some(grip) = &grip {
-            super::grip::command_grip(&mut engine, rid, hand, grip)?;
-        }
-        if let Some(theta) = options.spring {
-            let closing = super::grip::closing_grip(hand, 1.0, options.physics.coupled_actuators)?;
-            super::grip::stiffen_grip(&mut engine, rid, hand, &closing, theta)?;
-        }
-        if options.fixture {
-            engine.set_object_fixed(oid, true)?;
-        }
-        if let Some(tau) = options.closing_damping {
-            engine.set_object_damping(oid, 1.0 / tau, 1.0 / tau)?;
-        }
-        let grip = match (options.regrip, &grip) {
-            (Some(interval), Some(grip)) => Some(super::grip_sim::regrip_while_settling(
-                &mut engine,
-                rid,
-                hand,
-                object,
-                evaluation,
-                grip,
-                options,
-                interval,
-                settle_steps,
-            )?),
-            _ => {
-                engine.step_n(settle_steps, dt)?;
-                grip.clone()
-            }
-        };
-        let imbalance = super::release_imbalance(&engine, hand, rid, oid, object, evaluation)?;
-        if let Some(grip) = &grip {
-            super::grip_sim::after_squeeze(&mut engine, rid, hand, object, evaluation, grip, options)?;
-        }
-        if options.fixture {
-            super::release::release_gradually(&mut engine, oid, object, options.release, dt)?;
-        }
-        if let Some(tau) = options.closing_damping {
-            super::release::undamp_gradually(&mut engine, oid, 1.0 / tau, options.damping_ramp, dt)?;
-        }
-        Ok((engine, imbalance))
-    };
     // Settled once: each run continues from a snapshot of it (bitwise what settling afresh
     // gives), or from a fresh settle on a backend without snapshots.
-    let (start, imbalance) = settled()?;
+    let start = settle_grip::<E>(hand, object, evaluation, options)?;
+    let imbalance = start.release_imbalance;
     let run = |gravity: Vector3<f64>| -> Result<Isometry3<f64>> {
-        let mut engine = match start.snapshot() {
+        let mut engine = match start.engine.snapshot() {
             Some(engine) => engine,
-            None => settled()?.0,
+            None => settle_grip::<E>(hand, object, evaluation, options)?.engine,
         };
         engine.set_gravity(gravity)?;
         engine.step_n(steps, dt)?;
-        Ok(engine.object_pose(oid)?)
+        Ok(engine.object_pose(ObjectId(0))?)
     };
     let control = run(Vector3::zeros())?;
     let mut out = PhysicsOutcome {
@@ -234,4 +164,106 @@ pub fn physics_check_with<E: PhysicsEngine>(
         });
     }
     Ok(out)
+}
+
+/// The state every run of the physics check starts from ([`settle_grip`]).
+pub struct SettledGrip<E> {
+    /// The simulation at the end of the release: gravity off, the object free.
+    pub engine: E,
+    /// The hand's robot in `engine` (the object is `ObjectId(0)`).
+    pub robot: RobotId,
+    /// The least net wrench (N) the traced contact forces put on the object at the end of the
+    /// clamped squeeze ([`super::release_imbalance`]).
+    pub release_imbalance: f64,
+}
+
+/// The physics check's settle on backend `E`, as [`physics_check_with`] runs it for `options`
+/// (with the hand's actuator model, [`PhysicsCheckOptions::for_hand`]): the fingers squeeze for
+/// `settle` seconds without gravity (the object clamped with `fixture`), then the object is
+/// released. Every gravity run and the control run of the check continue from this state.
+///
+/// # Errors
+/// As [`physics_check_with`].
+pub fn settle_grip<E: PhysicsEngine>(
+    hand: &Hand,
+    object: &ObjectModel,
+    evaluation: &GraspEvaluation,
+    options: &PhysicsCheckOptions,
+) -> Result<SettledGrip<E>> {
+    if evaluation.status != EvaluationStatus::Closed {
+        return Err(GraspError::InvalidParameter { name: "evaluation", reason: "the hand did not close".into() });
+    }
+    options.validate()?;
+    let options = &options.for_hand(hand);
+    // The hand fixed at its pose, the closing joints commanded `squeeze` past the closed
+    // configuration, the object (the scene's only one) free, its friction on the links.
+    // Balanced grip: torques per joint, pressed through position targets `squeeze` past the
+    // closed configuration with the motor forces capped at the torques.
+    let grip = match options.balanced {
+        Some(f) => Some(super::grip::grip_torques(
+            hand,
+            object,
+            evaluation,
+            f,
+            options.grip_margin,
+            options.physics.coupled_actuators,
+        )?),
+        None => None,
+    }
+    // No balanced grip at all (every torque zero): the grasp is checked as without `balanced`.
+    .filter(super::grip::GripTorques::squeezes);
+    let squeeze = TactileSeriesOptions {
+        squeeze: options.squeeze,
+        effort: if grip.is_some() { None } else { options.effort },
+        gravity: Vector3::zeros(),
+        physics: options.physics.clone(),
+        ..TactileSeriesOptions::default()
+    };
+    let oid = ObjectId(0);
+    let dt = options.physics.timestep;
+    let settle_steps = (options.settle / dt).ceil() as usize;
+    // The squeezing fingers settle without gravity (the object clamped with `fixture`), the
+    // object is released: the state every run starts from.
+    let (mut engine, rid) = squeeze_engine::<E>(hand, object, evaluation, &squeeze)?;
+    if let Some(grip) = &grip {
+        super::grip::command_grip(&mut engine, rid, hand, grip)?;
+    }
+    if let Some(theta) = options.spring {
+        let closing = super::grip::closing_grip(hand, 1.0, options.physics.coupled_actuators)?;
+        super::grip::stiffen_grip(&mut engine, rid, hand, &closing, theta)?;
+    }
+    if options.fixture {
+        engine.set_object_fixed(oid, true)?;
+    }
+    if let Some(tau) = options.closing_damping {
+        engine.set_object_damping(oid, 1.0 / tau, 1.0 / tau)?;
+    }
+    let grip = match (options.regrip, &grip) {
+        (Some(interval), Some(grip)) => Some(super::grip_sim::regrip_while_settling(
+            &mut engine,
+            rid,
+            hand,
+            object,
+            evaluation,
+            grip,
+            options,
+            interval,
+            settle_steps,
+        )?),
+        _ => {
+            engine.step_n(settle_steps, dt)?;
+            grip.clone()
+        }
+    };
+    let imbalance = super::release_imbalance(&engine, hand, rid, oid, object, evaluation)?;
+    if let Some(grip) = &grip {
+        super::grip_sim::after_squeeze(&mut engine, rid, hand, object, evaluation, grip, options)?;
+    }
+    if options.fixture {
+        super::release::release_gradually(&mut engine, oid, object, options.release, dt)?;
+    }
+    if let Some(tau) = options.closing_damping {
+        super::release::undamp_gradually(&mut engine, oid, 1.0 / tau, options.damping_ramp, dt)?;
+    }
+    Ok(SettledGrip { engine, robot: rid, release_imbalance: imbalance })
 }

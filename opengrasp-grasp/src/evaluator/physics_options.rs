@@ -11,7 +11,9 @@ use crate::error::{GraspError, Result};
 ///
 /// Measured (`physics_sweep per_cell=5`, these defaults: armature 1e-3 kg·m², squeeze 0.3,
 /// each hand driven as its actuation says, [`Self::hand_actuation`]): Barrett 46/79 held,
-/// ARMAR-III 30/80 (23/80 under position control), none diverged; without the armature
+/// ARMAR-III 29/80 (30/80 before joints on their closing stop counted in the balanced grip,
+/// when 59 of the 80 had none and fell back to position control at the full effort limits;
+/// 23/80 under position control), none diverged; without the armature
 /// (squeeze 0.4, position control) 42/79 (1 diverged), 12/80. The figures below were taken
 /// without the armature unless they say otherwise.
 /// Why the benchmark grasps fail (`physics_sweep per_cell=5`, without armature: Barrett 42/79
