@@ -157,6 +157,12 @@ pub(super) struct SphereSoa {
     link_centre: Vec<Point3<f64>>,
     link_radius: Vec<f64>,
     obstacles: Vec<ObstacleFrame>,
+    /// The obstacles' bounding-sphere centres and radii as arrays (for
+    /// [`SphereSoa::far_obstacles`]).
+    obstacle_x: Vec<f64>,
+    obstacle_y: Vec<f64>,
+    obstacle_z: Vec<f64>,
+    obstacle_bound: Vec<f64>,
 }
 
 impl SphereSoa {
@@ -202,6 +208,10 @@ impl SphereSoa {
             frame: links.iter().map(|l| l.0).collect(),
             link_centre,
             link_radius,
+            obstacle_x: obstacles.iter().map(|o| o.t[0]).collect(),
+            obstacle_y: obstacles.iter().map(|o| o.t[1]).collect(),
+            obstacle_z: obstacles.iter().map(|o| o.t[2]).collect(),
+            obstacle_bound: obstacles.iter().map(|o| o.bound).collect(),
             obstacles,
         }
     }
@@ -355,20 +365,45 @@ impl SphereSoa {
         Some(lb.max(0.0))
     }
 
-    /// [`SphereSoa::link_near`] with a lower bound: `None` if link `k`'s bounding sphere may
-    /// touch obstacle `o`, else `Some(g)` with `0 ≤ g ≤` the distance of every sphere of the
-    /// link to the obstacle (after [`SphereSoa::begin`]).
+    /// Link `k`'s bounding sphere against the bounding spheres of the obstacles `from..` (at
+    /// most [`FAR_BATCH`] of them) at once, a branch-free loop over arrays (placing the link's
+    /// centre if not yet done): the least gap `|c − t| − (r + bound)` (at least 0, ∞ for none)
+    /// over the obstacles whose bounding sphere is clear of the link's, which is at most the
+    /// distance of every sphere of the link to them, and the bit `o − from` set for each other
+    /// obstacle `o` (whose [`SphereSoa::link_inside_gap`] decides).
     #[inline(always)]
-    pub fn link_far(&self, o: usize, k: usize, c: &Centres) -> Option<f64> {
-        debug_assert!(c.linked[k] == c.epoch, "link_far after begin_lazy");
-        let o = &self.obstacles[o];
-        let [lx, ly, lz] = c.link[k];
-        let d2 = (lx - o.t[0]).powi(2) + (ly - o.t[1]).powi(2) + (lz - o.t[2]).powi(2);
-        let reach = self.link_radius[k] + o.bound;
-        if d2 > reach * reach {
-            return Some((d2.sqrt() - reach).max(0.0));
+    pub fn far_obstacles(&self, k: usize, frames: &[Mat34], c: &mut Centres, from: usize) -> (f64, u64) {
+        let [lx, ly, lz] = self.link_at(frames, c, k);
+        let radius = self.link_radius[k];
+        let to = self.obstacles.len().min(from.saturating_add(FAR_BATCH));
+        let from = from.min(to);
+        let (xs, ys, zs, bs) = (
+            &self.obstacle_x[from..to],
+            &self.obstacle_y[from..to],
+            &self.obstacle_z[from..to],
+            &self.obstacle_bound[from..to],
+        );
+        let (mut least, mut near) = (f64::INFINITY, 0u64);
+        for (i, (((&x, &y), &z), &b)) in xs.iter().zip(ys).zip(zs).zip(bs).enumerate() {
+            let d2 = (lx - x).powi(2) + (ly - y).powi(2) + (lz - z).powi(2);
+            let reach = radius + b;
+            let far = d2 > reach * reach;
+            let gap = d2.sqrt() - reach;
+            least = if far && gap < least { gap } else { least };
+            near |= u64::from(!far) << i;
         }
-        let d = o.signed_distance(lx, ly, lz);
+        (least.max(0.0), near)
+    }
+
+    /// For an obstacle `o` that [`SphereSoa::far_obstacles`] does not clear: `Some(d − r)` if
+    /// the signed distance `d` of link `k`'s bounding-sphere centre to `o` exceeds its radius
+    /// `r` (then at most every sphere's distance), else `None` (the spheres decide). After
+    /// [`SphereSoa::far_obstacles`] for link `k` on this state.
+    #[inline(always)]
+    pub fn link_inside_gap(&self, o: usize, k: usize, c: &Centres) -> Option<f64> {
+        debug_assert!(c.linked[k] == c.epoch, "link_inside_gap before far_obstacles");
+        let [lx, ly, lz] = c.link[k];
+        let d = self.obstacles[o].signed_distance(lx, ly, lz);
         (d > self.link_radius[k]).then(|| d - self.link_radius[k])
     }
 
@@ -459,6 +494,9 @@ impl SphereSoa {
 
 /// Most spheres per cluster.
 const CLUSTER: usize = 8;
+
+/// Most obstacles one [`SphereSoa::far_obstacles`] call tests (one bit each).
+pub(super) const FAR_BATCH: usize = 64;
 
 /// The sphere about the centroid of `spheres` holding them all, with a little slack: culling
 /// must never skip a sphere the exact test would hit.

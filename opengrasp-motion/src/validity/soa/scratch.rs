@@ -70,7 +70,13 @@ pub(in crate::validity) struct Scratch {
     /// at the next states: only the work changes, a state is invalid whichever of its tests
     /// fails first.
     pub recent: Recent,
-    /// Tests run by certified motion checks (to test how much work they skip).
+    /// The gaps of a certified motion's end state.
+    pub end_gaps: Vec<f64>,
+    /// Per link, the obstacle that last failed its obstacle test, tried first at the next
+    /// state (only the work changes, as for `recent`).
+    pub first_obstacle: Vec<usize>,
+    /// Link-obstacle and pair tests run by certified motion checks (to test how much work
+    /// they skip).
     #[cfg(test)]
     pub evaluated: u64,
 }
