@@ -10,6 +10,8 @@ use super::ObstacleShape;
 
 mod lanes;
 mod scratch;
+#[cfg(test)]
+mod tests;
 
 pub(super) use lanes::{and_not, any_lane, LaneCentres, Mask};
 pub(super) use scratch::{with_scratch, Centres, Scratch};
@@ -23,6 +25,9 @@ pub(super) struct ObstacleFrame {
     shape: ObstacleShape,
     /// Radius of a sphere about `t` holding the obstacle (for culling).
     bound: f64,
+    /// True if the rotation turns about the z axis only (`r[2]`, `r[5]`, `r[6]`, `r[7]` are
+    /// zero, as for every MotionBenchMaker obstacle): see [`ObstacleFrame::local_in`].
+    upright: bool,
 }
 
 impl ObstacleFrame {
@@ -38,28 +43,52 @@ impl ObstacleFrame {
             ObstacleShape::Cylinder { radius, half_length } => radius.hypot(half_length),
             ObstacleShape::Capsule { radius, half_length } => radius + half_length,
         };
-        Self { r, t: [t.x, t.y, t.z], shape, bound: bound * (1.0 + 1e-9) + 1e-12 }
+        let upright = r[2] == 0.0 && r[5] == 0.0 && r[6] == 0.0 && r[7] == 0.0;
+        Self { r, t: [t.x, t.y, t.z], shape, bound: bound * (1.0 + 1e-9) + 1e-12, upright }
     }
 
     /// `(x, y, z)` in the obstacle's frame.
     #[inline(always)]
     fn local(&self, x: f64, y: f64, z: f64) -> (f64, f64, f64) {
+        self.local_in::<false>(x, y, z)
+    }
+
+    /// [`ObstacleFrame::local`], with `UPRIGHT` (only for an upright obstacle) dropping the
+    /// products with the zero entries `r[2]`, `r[5]`, `r[6]`, `r[7]`. For finite coordinates
+    /// each is ±0, and adding ±0 leaves a sum unchanged but for the sign of a zero, which no
+    /// distance below depends on (`abs`, squares, `z − clamp(z)`): the same distances, bit
+    /// for bit, with 4 multiplications and 4 additions fewer.
+    #[inline(always)]
+    fn local_in<const UPRIGHT: bool>(&self, x: f64, y: f64, z: f64) -> (f64, f64, f64) {
         let (px, py, pz) = (x - self.t[0], y - self.t[1], z - self.t[2]);
         let r = &self.r;
-        (r[0] * px + r[1] * py + r[2] * pz, r[3] * px + r[4] * py + r[5] * pz, r[6] * px + r[7] * py + r[8] * pz)
+        if UPRIGHT {
+            (r[0] * px + r[1] * py, r[3] * px + r[4] * py, r[8] * pz)
+        } else {
+            (r[0] * px + r[1] * py + r[2] * pz, r[3] * px + r[4] * py + r[5] * pz, r[6] * px + r[7] * py + r[8] * pz)
+        }
     }
 
     /// Signed distance from `(x, y, z)` to the obstacle's surface (negative inside), exact.
     #[inline(always)]
     pub fn signed_distance(&self, x: f64, y: f64, z: f64) -> f64 {
+        if self.upright {
+            self.signed_distance_in::<true>(x, y, z)
+        } else {
+            self.signed_distance_in::<false>(x, y, z)
+        }
+    }
+
+    #[inline(always)]
+    fn signed_distance_in<const UPRIGHT: bool>(&self, x: f64, y: f64, z: f64) -> f64 {
         match self.shape {
-            ObstacleShape::Box { half_extents: h } => box_distance(self.local(x, y, z), [h.x, h.y, h.z]),
+            ObstacleShape::Box { half_extents: h } => box_distance(self.local_in::<UPRIGHT>(x, y, z), [h.x, h.y, h.z]),
             ObstacleShape::Sphere { radius } => sphere_distance(&self.t, radius, x, y, z),
             ObstacleShape::Cylinder { radius, half_length } => {
-                cylinder_distance(self.local(x, y, z), radius, half_length)
+                cylinder_distance(self.local_in::<UPRIGHT>(x, y, z), radius, half_length)
             }
             ObstacleShape::Capsule { radius, half_length } => {
-                capsule_distance(self.local(x, y, z), radius, half_length)
+                capsule_distance(self.local_in::<UPRIGHT>(x, y, z), radius, half_length)
             }
         }
     }
@@ -73,21 +102,31 @@ impl ObstacleFrame {
     /// (∞ for none): at most zero exactly when one touches the obstacle (`d − r ≤ 0 ⇔ d ≤ r`
     /// in IEEE arithmetic). Branch-free per shape, so each loop vectorises.
     fn min_gap(&self, xs: &[f64], ys: &[f64], zs: &[f64], rs: &[f64]) -> f64 {
+        if self.upright {
+            self.min_gap_in::<true>(xs, ys, zs, rs)
+        } else {
+            self.min_gap_in::<false>(xs, ys, zs, rs)
+        }
+    }
+
+    #[inline(always)]
+    fn min_gap_in<const UPRIGHT: bool>(&self, xs: &[f64], ys: &[f64], zs: &[f64], rs: &[f64]) -> f64 {
         let n = xs.len().min(ys.len()).min(zs.len()).min(rs.len());
         let (xs, ys, zs, rs) = (&xs[..n], &ys[..n], &zs[..n], &rs[..n]);
+        let local = |i: usize| self.local_in::<UPRIGHT>(xs[i], ys[i], zs[i]);
         match self.shape {
             ObstacleShape::Box { half_extents: h } => {
                 let h = [h.x, h.y, h.z];
-                least(n, |i| box_distance(self.local(xs[i], ys[i], zs[i]), h) - rs[i])
+                least(n, |i| box_distance(local(i), h) - rs[i])
             }
             ObstacleShape::Sphere { radius } => {
                 least(n, |i| sphere_distance(&self.t, radius, xs[i], ys[i], zs[i]) - rs[i])
             }
             ObstacleShape::Cylinder { radius, half_length } => {
-                least(n, |i| cylinder_distance(self.local(xs[i], ys[i], zs[i]), radius, half_length) - rs[i])
+                least(n, |i| cylinder_distance(local(i), radius, half_length) - rs[i])
             }
             ObstacleShape::Capsule { radius, half_length } => {
-                least(n, |i| capsule_distance(self.local(xs[i], ys[i], zs[i]), radius, half_length) - rs[i])
+                least(n, |i| capsule_distance(local(i), radius, half_length) - rs[i])
             }
         }
     }
