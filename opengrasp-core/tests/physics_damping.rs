@@ -1,6 +1,7 @@
 //! Viscous damping of free objects ([`PhysicsEngine::set_object_damping`]): rapier against the
 //! analytic decay of its implicit damping and the terminal velocity `F / (m r)` of a pushed
-//! body, and the errors for bad rates and handles on both backends.
+//! body, and the errors for bad rates and handles on both backends; the errors of
+//! [`PhysicsEngine::set_contact_frequency`].
 #![cfg(feature = "rapier")]
 
 use nalgebra::{Isometry3, Matrix3, Point3, Vector3};
@@ -97,4 +98,16 @@ fn rejects_bad_rates<E: PhysicsEngine>(mut e: E) {
 fn bad_damping_is_rejected_on_both_backends() {
     rejects_bad_rates(engine());
     rejects_bad_rates(MockBackend::from_scene(&ball(), &PhysicsOptions::default()).unwrap());
+}
+
+#[test]
+fn contact_frequency_is_checked_and_only_rapier_tunes_it() {
+    let mut rapier = engine();
+    let mut mock = MockBackend::from_scene(&ball(), &PhysicsOptions::default()).unwrap();
+    for bad in [0.0, -30.0, f64::NAN, f64::INFINITY] {
+        assert!(matches!(rapier.set_contact_frequency(bad), Err(CoreError::InvalidParameter { .. })));
+        assert!(matches!(mock.set_contact_frequency(bad), Err(CoreError::InvalidParameter { .. })));
+    }
+    assert!(rapier.set_contact_frequency(120.0).is_ok());
+    assert!(matches!(mock.set_contact_frequency(120.0), Err(CoreError::Physics { .. })));
 }

@@ -10,7 +10,7 @@
 //! grip torques; 0: off), `grip_margin`, `compliance` (rad: the balanced grip as joint springs,
 //! full effort at this deflection; 0: off), `spring` (rad: the closing joints as springs with their full effort share θ before their rest positions; 0: off), `resolve` (0/1: re-solve the balanced grip on
 //! the simulated contacts after the squeeze), `regrip` (s: re-solve it every this often during the squeeze; 0: off), `hand_actuation` (0/1: each hand's own actuator model where no other is set), `contact_hz`, `iterations`, `timestep` (s), `fixture`
-//! (0/1), `release` (s: the fixture's wrench ramped to zero over this time; 0: at once), `tau` (s: quasi-static closing on the free object with viscous damping of this time constant, needs `fixture=0`; 0: off), `damping_ramp` (s), `settle` (s), `coupled` (0/1), `armature` (kg·m², [`opengrasp_core::physics::PhysicsOptions::joint_armature`]), `per_cell` (grasps per planner and object, default 3), `hand`
+//! (0/1), `release` (s: the fixture's wrench ramped to zero over this time; 0: at once), `tau` (s: quasi-static closing on the free object with viscous damping of this time constant, needs `fixture=0`; 0: off), `damping_ramp` (s), `settle` (s), `coupled` (0/1), `armature` (kg·m², [`opengrasp_core::physics::PhysicsOptions::joint_armature`]), `window_dt` (s), `window_hz`, `window_before` (s), `window_after` (s) (the fine release window, [`PhysicsCheckOptions::release_window`]; a key sets one field, the others 1 ms, 120 Hz, 20 ms, 30 ms where no window was set; `window=0`: none), `per_cell` (grasps per planner and object, default 3), `hand`
 //! (`barrett` or `armar3`; default both). Per object and planner the first 128 candidates
 //! (spread evenly) are evaluated and `per_cell` of the force-closure palm grasps, spread
 //! evenly, are checked; the line shows `[force-closure palm grasps] held/checked`. Per hand the
@@ -27,9 +27,19 @@
 use opengrasp_assets::hands;
 use opengrasp_core::error::CoreError;
 use opengrasp_grasp::error::GraspError;
-use opengrasp_grasp::evaluator::{physics_check, HoldResult, PhysicsCheckOptions};
+use opengrasp_grasp::evaluator::{physics_check, HoldResult, PhysicsCheckOptions, ReleaseWindow};
 
 mod common;
+
+/// The options' release window, created (1 ms, 120 Hz, 20 ms before, 30 ms after) if unset.
+fn window(options: &mut PhysicsCheckOptions) -> &mut ReleaseWindow {
+    options.release_window.get_or_insert(ReleaseWindow {
+        timestep: 1e-3,
+        contact_frequency: 120.0,
+        before: 0.02,
+        after: 0.03,
+    })
+}
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut options = PhysicsCheckOptions::default();
@@ -59,6 +69,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "settle" => options.settle = value.parse()?,
             "coupled" => p.coupled_actuators = value != "0",
             "armature" => p.joint_armature = value.parse()?,
+            "window" if value == "0" => options.release_window = None,
+            "window_dt" => window(&mut options).timestep = value.parse()?,
+            "window_hz" => window(&mut options).contact_frequency = value.parse()?,
+            "window_before" => window(&mut options).before = value.parse()?,
+            "window_after" => window(&mut options).after = value.parse()?,
             "per_cell" => per_cell = value.parse()?,
             "hand" => only = value.to_string(),
             "explain" => explain = value != "0",

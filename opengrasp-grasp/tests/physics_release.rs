@@ -6,7 +6,7 @@ use nalgebra::{Isometry3, Vector3};
 use opengrasp_core::physics::{PhysicsEngine, PhysicsOptions, RapierBackend};
 use opengrasp_core::scene::{ObjectId, Scene};
 use opengrasp_grasp::evaluator::{
-    fixture_wrench, physics_check, release_gradually, undamp_gradually, PhysicsCheckOptions,
+    fixture_wrench, physics_check, release_gradually, undamp_gradually, PhysicsCheckOptions, ReleaseWindow,
 };
 use opengrasp_grasp::GraspError;
 
@@ -138,4 +138,31 @@ fn a_bad_closing_damping_is_a_typed_error() {
     assert!(matches!(options.validate(), Err(GraspError::InvalidParameter { name: "closing_damping", .. })));
     let options = PhysicsCheckOptions { closing_damping: Some(0.01), fixture: false, ..Default::default() };
     assert!(options.validate().is_ok());
+}
+
+#[test]
+fn a_bad_release_window_is_a_typed_error() {
+    let good = ReleaseWindow { timestep: 1e-3, contact_frequency: 120.0, before: 0.02, after: 0.03 };
+    let check =
+        |window: ReleaseWindow| PhysicsCheckOptions { release_window: Some(window), ..Default::default() }.validate();
+    assert!(check(good).is_ok());
+    for bad in [0.0, -1e-3, f64::NAN, f64::INFINITY] {
+        let e = check(ReleaseWindow { timestep: bad, ..good });
+        assert!(matches!(e, Err(GraspError::InvalidParameter { name: "release_window.timestep", .. })), "{e:?}");
+        let e = check(ReleaseWindow { contact_frequency: bad, ..good });
+        assert!(
+            matches!(e, Err(GraspError::InvalidParameter { name: "release_window.contact_frequency", .. })),
+            "{e:?}"
+        );
+    }
+    for bad in [-1e-3, f64::NAN, f64::INFINITY] {
+        let e = check(ReleaseWindow { before: bad, ..good });
+        assert!(matches!(e, Err(GraspError::InvalidParameter { name: "release_window.before", .. })), "{e:?}");
+        let e = check(ReleaseWindow { after: bad, ..good });
+        assert!(matches!(e, Err(GraspError::InvalidParameter { name: "release_window.after", .. })), "{e:?}");
+    }
+    // Zero before and after are a window of the release alone; more than the settle is an error.
+    assert!(check(ReleaseWindow { before: 0.0, after: 0.0, ..good }).is_ok());
+    let e = check(ReleaseWindow { before: 0.25, ..good });
+    assert!(matches!(e, Err(GraspError::InvalidParameter { name: "release_window.before", .. })), "{e:?}");
 }

@@ -464,6 +464,18 @@ pub trait PhysicsEngine: Send {
         Err(CoreError::Physics { reason: format!("{} cannot damp objects", self.name()) })
     }
 
+    /// Sets the natural frequency (Hz) of the soft contact constraints from now on
+    /// ([`PhysicsOptions::contact_frequency`] at construction), e.g. stiffer contacts for a
+    /// short window of a simulation.
+    ///
+    /// # Errors
+    /// [`CoreError::InvalidParameter`] for a frequency that is not finite and positive,
+    /// [`CoreError::Physics`] if the backend has no soft contacts to tune (the default).
+    fn set_contact_frequency(&mut self, hz: f64) -> Result<()> {
+        check_param("contact_frequency", hz, hz.is_finite() && hz > 0.0, "must be finite and > 0")?;
+        Err(CoreError::Physics { reason: format!("{} has no soft contacts to tune", self.name()) })
+    }
+
     /// Applies an instantaneous impulse (N·s) at a world point of an object.
     ///
     /// # Errors

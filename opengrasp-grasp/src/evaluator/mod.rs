@@ -58,7 +58,7 @@ use hand_data::{hand_data, hand_radius, HandData};
 pub use options::EvaluatorOptions;
 pub use physics::{physics_check, physics_check_with, settle_grip, HoldResult, PhysicsOutcome, SettledGrip};
 pub use physics_options::PhysicsCheckOptions;
-pub use release::{fixture_wrench, release_gradually, undamp_gradually};
+pub use release::{fixture_wrench, release_gradually, undamp_gradually, ReleaseWindow};
 pub use static_hold::{static_hold, ActuatorLoad, StaticDirection, StaticHoldOptions, StaticHoldOutcome};
 
 /// How an evaluation ended.

@@ -221,7 +221,10 @@ pub fn settle_grip<E: PhysicsEngine>(
     };
     let oid = ObjectId(0);
     let dt = options.physics.timestep;
-    let settle_steps = (options.settle / dt).ceil() as usize;
+    // With a release window, its `before` of the settle is simulated in it, at its own step.
+    let window = options.release_window;
+    let coarse_settle = options.settle - window.map_or(0.0, |w| w.before);
+    let settle_steps = (coarse_settle / dt).ceil() as usize;
     // The squeezing fingers settle without gravity (the object clamped with `fixture`), the
     // object is released: the state every run starts from.
     let (mut engine, rid) = squeeze_engine::<E>(hand, object, evaluation, &squeeze)?;
@@ -255,6 +258,15 @@ pub fn settle_grip<E: PhysicsEngine>(
             grip.clone()
         }
     };
+    // Inside the window: its step and contacts until its end.
+    let dt = match window {
+        Some(w) => {
+            engine.set_contact_frequency(w.contact_frequency)?;
+            engine.step_n((w.before / w.timestep).ceil() as usize, w.timestep)?;
+            w.timestep
+        }
+        None => dt,
+    };
     let imbalance = super::release_imbalance(&engine, hand, rid, oid, object, evaluation)?;
     if let Some(grip) = &grip {
         super::grip_sim::after_squeeze(&mut engine, rid, hand, object, evaluation, grip, options)?;
@@ -264,6 +276,10 @@ pub fn settle_grip<E: PhysicsEngine>(
     }
     if let Some(tau) = options.closing_damping {
         super::release::undamp_gradually(&mut engine, oid, 1.0 / tau, options.damping_ramp, dt)?;
+    }
+    if let Some(w) = window {
+        engine.step_n((w.after / w.timestep).ceil() as usize, w.timestep)?;
+        engine.set_contact_frequency(options.physics.contact_frequency)?;
     }
     Ok(SettledGrip { engine, robot: rid, release_imbalance: imbalance })
 }

@@ -93,3 +93,42 @@ pub fn undamp_gradually<E: PhysicsEngine>(
     engine.set_object_damping(oid, 0.0, 0.0)?;
     Ok(())
 }
+
+/// A window of fine simulation around the release ([`super::PhysicsCheckOptions::release_window`]):
+/// the last `before` seconds of the clamped squeeze, the fixture's release and `after` seconds
+/// of the gravity-free grip that follows run in steps of `timestep` with the contacts at
+/// `contact_frequency` (Hz); then the check's own step and contacts come back for the control
+/// run and the gravity runs, which all continue from the end of the window.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ReleaseWindow {
+    /// Step (s) inside the window.
+    pub timestep: f64,
+    /// Natural frequency (Hz) of the soft contacts inside the window.
+    pub contact_frequency: f64,
+    /// Time (s) of the squeeze before the release simulated in the window (at most the
+    /// check's `settle`).
+    pub before: f64,
+    /// Gravity-free time (s) after the release simulated in the window.
+    pub after: f64,
+}
+
+impl ReleaseWindow {
+    /// Checks the window's values.
+    ///
+    /// # Errors
+    /// [`crate::GraspError::InvalidParameter`] for a step or contact frequency that is not finite
+    /// and positive, or a `before` or `after` that is not finite and non-negative.
+    pub fn validate(&self) -> Result<()> {
+        crate::planners::check_positive("release_window.timestep", self.timestep)?;
+        crate::planners::check_positive("release_window.contact_frequency", self.contact_frequency)?;
+        for (name, v) in [("release_window.before", self.before), ("release_window.after", self.after)] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(crate::GraspError::InvalidParameter {
+                    name,
+                    reason: format!("must be finite and >= 0, got {v}"),
+                });
+            }
+        }
+        Ok(())
+    }
+}

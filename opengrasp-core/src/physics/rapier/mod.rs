@@ -458,6 +458,13 @@ impl PhysicsEngine for RapierBackend {
         Ok(())
     }
 
+    fn set_contact_frequency(&mut self, hz: f64) -> Result<()> {
+        super::check_param("contact_frequency", hz, hz.is_finite() && hz > 0.0, "must be finite and > 0")?;
+        self.params.contact_natural_frequency = hz;
+        self.options.contact_frequency = hz;
+        Ok(())
+    }
+
     fn apply_object_impulse(&mut self, object: ObjectId, impulse: Vector3<f64>, point: Point3<f64>) -> Result<()> {
         let body = self.object(object)?.body;
         check_vec("impulse", &impulse)?;
