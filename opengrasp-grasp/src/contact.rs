@@ -284,10 +284,10 @@ impl GraspWrenchSpace {
     /// centred wrench matrix: singular values below `relative_tolerance` times the largest
     /// (or below `1e-12` absolute) do not count. An empty set has dimension 0.
     ///
-    /// A set whose centred Gram matrix is proven well inside full rank (see
-    /// [`full_rank_certified`]) gets 6 without the singular value decomposition, the number
-    /// the decomposition gives; the others take the decomposition
-    /// ([`affine_rank_svd`](Self::affine_rank_svd)).
+    /// A set whose centred Gram matrix is proven well inside full rank (a Cholesky
+    /// factorisation of `G − tI` with `t` far above the rounding; the proof is in the source,
+    /// `full_rank_certified`) gets 6 without the singular value decomposition, the number the
+    /// decomposition gives; the others take the decomposition.
     pub fn affine_rank(&self, relative_tolerance: f64) -> usize {
         let n = self.wrenches.len();
         if n < 2 {
