@@ -336,9 +336,7 @@ impl PhysicsCheckOptions {
             ("release", self.release),
             ("damping_ramp", self.damping_ramp),
         ] {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err(GraspError::InvalidParameter { name, reason: format!("must be finite and >= 0, got {v}") });
-            }
+            crate::planners::check_non_negative(name, v)?;
         }
         if self.effort.is_some() && self.balanced.is_some() {
             return Err(GraspError::InvalidParameter {

@@ -121,14 +121,7 @@ impl ReleaseWindow {
     pub fn validate(&self) -> Result<()> {
         crate::planners::check_positive("release_window.timestep", self.timestep)?;
         crate::planners::check_positive("release_window.contact_frequency", self.contact_frequency)?;
-        for (name, v) in [("release_window.before", self.before), ("release_window.after", self.after)] {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err(crate::GraspError::InvalidParameter {
-                    name,
-                    reason: format!("must be finite and >= 0, got {v}"),
-                });
-            }
-        }
-        Ok(())
+        crate::planners::check_non_negative("release_window.before", self.before)?;
+        crate::planners::check_non_negative("release_window.after", self.after)
     }
 }

@@ -145,11 +145,8 @@ pub fn static_hold(
     crate::planners::check_positive("mass", object.mass())?;
     crate::planners::check_positive("max_load_factor", options.max_load_factor)?;
     let mu = options.friction.unwrap_or(object.friction);
-    for (name, v) in [("friction", mu), ("saturation_tolerance", options.saturation_tolerance)] {
-        if !(v.is_finite() && v >= 0.0) {
-            return Err(GraspError::InvalidParameter { name, reason: format!("must be finite and >= 0, got {v}") });
-        }
-    }
+    crate::planners::check_non_negative("friction", mu)?;
+    crate::planners::check_non_negative("saturation_tolerance", options.saturation_tolerance)?;
     let robot = hand.robot();
     let fk = forward_kinematics(robot, &evaluation.q)?;
     let root_from_palm = fk.as_slice()[hand.palm().0] * hand.palm_frame();

@@ -188,6 +188,15 @@ pub(crate) fn check_positive(name: &'static str, value: f64) -> Result<()> {
     }
 }
 
+/// Checks that an option is finite and non-negative.
+pub(crate) fn check_non_negative(name: &'static str, value: f64) -> Result<()> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(())
+    } else {
+        Err(GraspError::InvalidParameter { name, reason: format!("must be finite and >= 0, got {value}") })
+    }
+}
+
 /// The nearest intersection of the ray `origin + t·dir` (t > 0) with the mesh: `(t, triangle)`.
 pub(crate) fn ray_cast(mesh: &TriangleMesh, origin: &Point3<f64>, dir: &Vector3<f64>) -> Option<(f64, usize)> {
     let v = mesh.vertices();
