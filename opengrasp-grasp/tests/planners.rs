@@ -8,6 +8,7 @@ use opengrasp_grasp::planners::{
     ApproachSampling, GraspPlanner, GraspRequest, HandInfo, MedialAxis, MedialAxisOptions, MedialAxisPlanner,
     StructureKind, SurfaceNormalOptions, SurfaceNormalPlanner,
 };
+use opengrasp_grasp::GraspError;
 
 mod common;
 use common::cylinder_mesh;
@@ -215,6 +216,14 @@ fn bad_options_are_errors() {
     assert!(bad.plan(&req).is_err());
     let bad = SurfaceNormalPlanner::new(SurfaceNormalOptions { standoffs: vec![f64::NAN], ..Default::default() });
     assert!(bad.plan(&req).is_err());
+    // A negative or infinite standoff is a typed error naming the option, for both planners.
+    for s in [-1e-3, f64::INFINITY] {
+        let sn = SurfaceNormalPlanner::new(SurfaceNormalOptions { standoffs: vec![0.0, s], ..Default::default() });
+        let ma = MedialAxisPlanner::new(MedialAxisOptions { standoffs: vec![s], ..Default::default() });
+        for err in [sn.plan(&req).unwrap_err(), ma.plan(&req).unwrap_err()] {
+            assert!(matches!(err, GraspError::InvalidParameter { name: "standoffs", .. }), "{err}");
+        }
+    }
     let bad = MedialAxisPlanner::new(MedialAxisOptions { voxel_size: Some(-1.0), ..Default::default() });
     assert!(bad.plan(&req).is_err());
     // Voxels far larger than the object: nothing inside.

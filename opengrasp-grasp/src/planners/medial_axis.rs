@@ -203,11 +203,8 @@ impl GraspPlanner for MedialAxisPlanner {
 
     fn plan(&self, request: &GraspRequest<'_>) -> Result<Vec<GraspCandidate>> {
         let o = &self.options;
-        if let Some(s) = o.standoffs.iter().find(|s| !s.is_finite() || **s < 0.0) {
-            return Err(GraspError::InvalidParameter {
-                name: "standoffs",
-                reason: format!("must be finite and >= 0, got {s}"),
-            });
+        for &s in &o.standoffs {
+            super::check_non_negative("standoffs", s)?;
         }
         let ma = MedialAxis::compute(request.object, o)?;
         let mut poses = Vec::new();

@@ -132,11 +132,8 @@ impl GraspPlanner for SurfaceNormalPlanner {
         if o.rolls == 0 {
             return Err(GraspError::InvalidParameter { name: "rolls", reason: "must be at least 1".into() });
         }
-        if let Some(s) = o.standoffs.iter().find(|s| !s.is_finite() || **s < 0.0) {
-            return Err(GraspError::InvalidParameter {
-                name: "standoffs",
-                reason: format!("must be finite and >= 0, got {s}"),
-            });
+        for &s in &o.standoffs {
+            super::check_non_negative("standoffs", s)?;
         }
         let standoffs: &[f64] = if o.standoffs.is_empty() { &[0.0] } else { &o.standoffs };
         let points = self.approach_points(request.object, request.seed)?;

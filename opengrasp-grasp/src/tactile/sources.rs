@@ -239,12 +239,7 @@ pub fn squeeze_engine<E: PhysicsEngine>(
 /// Effort targets of the closing dofs: `fraction` of each one's effort limit in its closing
 /// direction.
 fn closing_efforts(hand: &Hand, fraction: f64) -> Result<Vec<(usize, JointTarget)>> {
-    if !(fraction.is_finite() && fraction >= 0.0) {
-        return Err(GraspError::InvalidParameter {
-            name: "effort",
-            reason: format!("must be finite and >= 0, got {fraction}"),
-        });
-    }
+    crate::planners::check_non_negative("effort", fraction)?;
     let robot = hand.robot();
     let mut out = Vec::new();
     for (d, &v) in hand.closing_velocity().iter().enumerate() {
