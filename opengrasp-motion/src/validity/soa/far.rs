@@ -9,7 +9,7 @@
 //! Either way an obstacle is cleared exactly when the exact distance clears it (the
 //! bounding spheres only skip work), with a gap that is at most every sphere's distance.
 
-use super::ObstacleFrame;
+use super::{ObstacleFrame, FAR_BATCH};
 use crate::validity::ObstacleShape;
 
 /// The obstacles as arrays of upright boxes and cylinders (see the module documentation).
@@ -26,8 +26,10 @@ pub(super) struct UprightSolids {
     hx: Vec<f64>,
     hy: Vec<f64>,
     hz: Vec<f64>,
-    /// Whether each is a cylinder (its radial distance replaces the box's x distance).
+    /// Whether each is a cylinder (its radial distance replaces the box's x distance), and
+    /// whether any is.
     round: Vec<bool>,
+    any_round: bool,
 }
 
 impl UprightSolids {
@@ -50,38 +52,54 @@ impl UprightSolids {
                 v.push(x);
             }
             out.round.push(round);
+            out.any_round |= round;
         }
         Some(out)
     }
 
-    /// For the sphere `(x, y, z)`, `radius` against the obstacles `from..to` (centres `ts`):
-    /// the least `d − radius` over those whose signed distance `d` of the centre exceeds the
-    /// radius (∞ for none), and the bit `o − from` set for every other obstacle `o`. The
-    /// distances are [`ObstacleFrame::signed_distance`]'s, bit for bit (for a cylinder the
-    /// box formula with its radial distance as `x` and `y` dropped: adding `0²` and taking
-    /// the maximum with `−∞` change nothing).
+    /// For the sphere `(x, y, z)`, `radius` against the obstacles `from..to` (centres `ts`,
+    /// at most [`FAR_BATCH`]): the least `d − radius` over those whose signed distance `d` of
+    /// the centre exceeds the radius (∞ for none), and the bit `o − from` set for every other
+    /// obstacle `o`. The distances are [`ObstacleFrame::signed_distance`]'s, bit for bit (for
+    /// a cylinder the box formula with its radial distance as `x` and `y` dropped: adding
+    /// `0²` and taking the maximum with `−∞` change nothing).
     #[inline(always)]
-    pub fn clear_of(&self, [x, y, z]: [f64; 3], radius: f64, ts: [&[f64]; 3], from: usize, to: usize) -> (f64, u64) {
-        let n = to.saturating_sub(from);
-        let (tx, ty, tz) = (&ts[0][from..][..n], &ts[1][from..][..n], &ts[2][from..][..n]);
-        let (r0, r1, r3) = (&self.r0[from..][..n], &self.r1[from..][..n], &self.r3[from..][..n]);
-        let (r4, r8) = (&self.r4[from..][..n], &self.r8[from..][..n]);
-        let (hx, hy, hz) = (&self.hx[from..][..n], &self.hy[from..][..n], &self.hz[from..][..n]);
-        let round = &self.round[from..][..n];
+    pub fn clear_of(&self, centre: [f64; 3], radius: f64, ts: [&[f64]; 3], from: usize, to: usize) -> (f64, u64) {
+        let mut d = [0.0; FAR_BATCH];
+        let n = to.saturating_sub(from).min(FAR_BATCH);
+        // The distances first, a loop over arrays that vectorises, then the decisions.
+        if self.any_round {
+            self.distances::<true>(centre, ts, from, &mut d[..n]);
+        } else {
+            self.distances::<false>(centre, ts, from, &mut d[..n]);
+        }
         let (mut least, mut near) = (f64::INFINITY, 0u64);
-        for i in 0..n {
-            let (px, py, pz) = (x - tx[i], y - ty[i], z - tz[i]);
-            let (lx, ly, lz) = (r0[i] * px + r1[i] * py, r3[i] * px + r4[i] * py, r8[i] * pz);
-            let rho = (lx * lx + ly * ly).sqrt();
-            let dx = if round[i] { rho } else { lx.abs() } - hx[i];
-            let (dy, dz) = (ly.abs() - hy[i], lz.abs() - hz[i]);
-            let (ox, oy, oz) = (dx.max(0.0), dy.max(0.0), dz.max(0.0));
-            let d = (ox * ox + oy * oy + oz * oz).sqrt() + dx.max(dy).max(dz).min(0.0);
+        for (i, &d) in d[..n].iter().enumerate() {
             let clear = d > radius;
             let gap = d - radius;
             least = if clear && gap < least { gap } else { least };
             near |= u64::from(!clear) << i;
         }
         (least, near)
+    }
+
+    /// The signed distances of `centre` to the obstacles `from..from + out.len()` into `out`;
+    /// `ROUND`: some may be cylinders.
+    #[inline(always)]
+    fn distances<const ROUND: bool>(&self, [x, y, z]: [f64; 3], ts: [&[f64]; 3], from: usize, out: &mut [f64]) {
+        let n = out.len();
+        let (tx, ty, tz) = (&ts[0][from..][..n], &ts[1][from..][..n], &ts[2][from..][..n]);
+        let (r0, r1, r3) = (&self.r0[from..][..n], &self.r1[from..][..n], &self.r3[from..][..n]);
+        let (r4, r8) = (&self.r4[from..][..n], &self.r8[from..][..n]);
+        let (hx, hy, hz) = (&self.hx[from..][..n], &self.hy[from..][..n], &self.hz[from..][..n]);
+        let round = &self.round[from..][..n];
+        for i in 0..n {
+            let (px, py, pz) = (x - tx[i], y - ty[i], z - tz[i]);
+            let (lx, ly, lz) = (r0[i] * px + r1[i] * py, r3[i] * px + r4[i] * py, r8[i] * pz);
+            let ax = if ROUND && round[i] { (lx * lx + ly * ly).sqrt() } else { lx.abs() };
+            let (dx, dy, dz) = (ax - hx[i], ly.abs() - hy[i], lz.abs() - hz[i]);
+            let (ox, oy, oz) = (dx.max(0.0), dy.max(0.0), dz.max(0.0));
+            out[i] = (ox * ox + oy * oy + oz * oz).sqrt() + dx.max(dy).max(dz).min(0.0);
+        }
     }
 }
