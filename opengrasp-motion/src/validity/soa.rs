@@ -427,7 +427,7 @@ impl SphereSoa {
         let from = from.min(to);
         let ts = [self.obstacle_x.as_slice(), &self.obstacle_y, &self.obstacle_z];
         if let Some(solids) = &self.solids {
-            let (least, near) = solids.clear_of(centre, radius, ts, from, to);
+            let (least, near) = solids.clear_of(centre, radius, ts, (from, to), &mut c.distances);
             return (least.max(0.0), near);
         }
         let [lx, ly, lz] = centre;

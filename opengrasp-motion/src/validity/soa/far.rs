@@ -58,15 +58,23 @@ impl UprightSolids {
     }
 
     /// For the sphere `(x, y, z)`, `radius` against the obstacles `from..to` (centres `ts`,
-    /// at most [`FAR_BATCH`]): the least `d − radius` over those whose signed distance `d` of
+    /// at most [`FAR_BATCH`]; `d` a buffer): the least `d − radius` over those whose signed distance `d` of
     /// the centre exceeds the radius (∞ for none), and the bit `o − from` set for every other
     /// obstacle `o`. The distances are [`ObstacleFrame::signed_distance`]'s, bit for bit (for
     /// a cylinder the box formula with its radial distance as `x` and `y` dropped: adding
     /// `0²` and taking the maximum with `−∞` change nothing).
     #[inline(always)]
-    pub fn clear_of(&self, centre: [f64; 3], radius: f64, ts: [&[f64]; 3], from: usize, to: usize) -> (f64, u64) {
-        let mut d = [0.0; FAR_BATCH];
+    pub fn clear_of(
+        &self,
+        centre: [f64; 3],
+        radius: f64,
+        ts: [&[f64]; 3],
+        (from, to): (usize, usize),
+        d: &mut Vec<f64>,
+    ) -> (f64, u64) {
         let n = to.saturating_sub(from).min(FAR_BATCH);
+        // A reused buffer: clearing a fresh batch-sized one would cost more than the tests.
+        d.resize(FAR_BATCH, 0.0);
         // The distances first, a loop over arrays that vectorises, then the decisions.
         if self.any_round {
             self.distances::<true>(centre, ts, from, &mut d[..n]);

@@ -80,7 +80,7 @@ proptest! {
         let solids = super::far::UprightSolids::new(&frames).expect("upright boxes and cylinders");
         let column = |i: usize| frames.iter().map(|o| o.t[i]).collect::<Vec<f64>>();
         let ts = [column(0), column(1), column(2)];
-        let (least, near) = solids.clear_of(centre, radius, [&ts[0], &ts[1], &ts[2]], 0, frames.len());
+        let (least, near) = solids.clear_of(centre, radius, [&ts[0], &ts[1], &ts[2]], (0, frames.len()), &mut Vec::new());
         let (mut want, mut want_near) = (f64::INFINITY, 0u64);
         for (i, o) in frames.iter().enumerate() {
             let d = o.signed_distance(centre[0], centre[1], centre[2]);
