@@ -7,7 +7,9 @@ use nalgebra::{Isometry3, Point3};
 
 use super::chain::Mat34;
 use super::ObstacleShape;
+use far::UprightSolids;
 
+mod far;
 mod lanes;
 mod scratch;
 #[cfg(test)]
@@ -202,6 +204,9 @@ pub(super) struct SphereSoa {
     obstacle_y: Vec<f64>,
     obstacle_z: Vec<f64>,
     obstacle_bound: Vec<f64>,
+    /// The obstacles as upright boxes and cylinders, if every one is (for
+    /// [`SphereSoa::far_obstacles`]).
+    solids: Option<UprightSolids>,
 }
 
 impl SphereSoa {
@@ -251,6 +256,7 @@ impl SphereSoa {
             obstacle_y: obstacles.iter().map(|o| o.t[1]).collect(),
             obstacle_z: obstacles.iter().map(|o| o.t[2]).collect(),
             obstacle_bound: obstacles.iter().map(|o| o.bound).collect(),
+            solids: UprightSolids::new(&obstacles),
             obstacles,
         }
     }
@@ -404,24 +410,28 @@ impl SphereSoa {
         Some(lb.max(0.0))
     }
 
-    /// Link `k`'s bounding sphere against the bounding spheres of the obstacles `from..` (at
-    /// most [`FAR_BATCH`] of them) at once, a branch-free loop over arrays (placing the link's
-    /// centre if not yet done): the least gap `|c − t| − (r + bound)` (at least 0, ∞ for none)
-    /// over the obstacles whose bounding sphere is clear of the link's, which is at most the
-    /// distance of every sphere of the link to them, and the bit `o − from` set for each other
-    /// obstacle `o` (whose [`SphereSoa::link_inside_gap`] decides).
+    /// Link `k`'s bounding sphere against the obstacles `from..` (at most [`FAR_BATCH`] of
+    /// them) at once, placing the link's centre if not yet done: the least gap (at least 0,
+    /// ∞ for none) over the obstacles the bounding sphere clears, which is at most the
+    /// distance of every sphere of the link to them, and the bit `o − from` set for each
+    /// other obstacle `o` (whose spheres decide). An obstacle is cleared when the signed
+    /// distance `d` of the centre exceeds the radius `r` (gap `d − r`): for upright boxes
+    /// and cylinders computed for all in one branch-free loop ([`far`]), else after the
+    /// obstacles' bounding spheres, which clear the far ones with the gap `|c − t| − (r +
+    /// bound)` first.
     #[inline(always)]
     pub fn far_obstacles(&self, k: usize, frames: &[Mat34], c: &mut Centres, from: usize) -> (f64, u64) {
-        let [lx, ly, lz] = self.link_at(frames, c, k);
+        let centre = self.link_at(frames, c, k);
         let radius = self.link_radius[k];
         let to = self.obstacles.len().min(from.saturating_add(FAR_BATCH));
         let from = from.min(to);
-        let (xs, ys, zs, bs) = (
-            &self.obstacle_x[from..to],
-            &self.obstacle_y[from..to],
-            &self.obstacle_z[from..to],
-            &self.obstacle_bound[from..to],
-        );
+        let ts = [self.obstacle_x.as_slice(), &self.obstacle_y, &self.obstacle_z];
+        if let Some(solids) = &self.solids {
+            let (least, near) = solids.clear_of(centre, radius, ts, (from, to), &mut c.distances);
+            return (least.max(0.0), near);
+        }
+        let [lx, ly, lz] = centre;
+        let (xs, ys, zs, bs) = (&ts[0][from..to], &ts[1][from..to], &ts[2][from..to], &self.obstacle_bound[from..to]);
         let (mut least, mut near) = (f64::INFINITY, 0u64);
         for (i, (((&x, &y), &z), &b)) in xs.iter().zip(ys).zip(zs).zip(bs).enumerate() {
             let d2 = (lx - x).powi(2) + (ly - y).powi(2) + (lz - z).powi(2);
@@ -431,19 +441,19 @@ impl SphereSoa {
             least = if far && gap < least { gap } else { least };
             near |= u64::from(!far) << i;
         }
+        // The obstacles whose bounding sphere is not clear: the link's centre against the
+        // exact shape.
+        let mut rest = near;
+        while rest != 0 {
+            let i = rest.trailing_zeros() as usize;
+            rest &= rest - 1;
+            let d = self.obstacles[from + i].signed_distance(lx, ly, lz);
+            if d > radius {
+                least = least.min(d - radius);
+                near &= !(1u64 << i);
+            }
+        }
         (least.max(0.0), near)
-    }
-
-    /// For an obstacle `o` that [`SphereSoa::far_obstacles`] does not clear: `Some(d − r)` if
-    /// the signed distance `d` of link `k`'s bounding-sphere centre to `o` exceeds its radius
-    /// `r` (then at most every sphere's distance), else `None` (the spheres decide). After
-    /// [`SphereSoa::far_obstacles`] for link `k` on this state.
-    #[inline(always)]
-    pub fn link_inside_gap(&self, o: usize, k: usize, c: &Centres) -> Option<f64> {
-        debug_assert!(c.linked[k] == c.epoch, "link_inside_gap before far_obstacles");
-        let [lx, ly, lz] = c.link[k];
-        let d = self.obstacles[o].signed_distance(lx, ly, lz);
-        (d > self.link_radius[k]).then(|| d - self.link_radius[k])
     }
 
     /// True if links `a` and `b` ride on the same chain frame (their relative pose never

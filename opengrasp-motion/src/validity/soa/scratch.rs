@@ -23,6 +23,8 @@ pub(in crate::validity) struct Centres {
     pub(super) filled: Vec<u32>,
     /// Whether each link's bounding-sphere centre is placed yet.
     pub(super) linked: Vec<u32>,
+    /// The broad phase's distances of a link to the obstacles (a buffer).
+    pub(super) distances: Vec<f64>,
 }
 
 impl Centres {

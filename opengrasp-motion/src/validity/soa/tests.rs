@@ -58,3 +58,52 @@ fn cage_orientation_is_upright_and_tilt_is_not() {
     let tilt = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 1e-3);
     assert!(!ObstacleFrame::new(&Isometry3::from_parts(Translation3::identity(), tilt), h).upright);
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+    /// The broad phase over upright boxes and cylinders clears an obstacle exactly when the
+    /// signed distance of the sphere's centre exceeds its radius, with that distance's gap,
+    /// bit for bit.
+    #[test]
+    fn upright_solids_clear_exactly_by_signed_distance(
+        solids in prop::collection::vec((0usize..2, -4.0..4.0f64, (0.01..0.5f64, 0.01..0.5f64), prop::array::uniform3(-1.0..1.0f64)), 1..12),
+        centre in prop::array::uniform3(-1.5..1.5f64),
+        radius in 0.0..0.6f64,
+    ) {
+        let frames: Vec<ObstacleFrame> = solids
+            .iter()
+            .map(|&(kind, angle, (a, b), t)| {
+                let pose = Isometry3::from_parts(Translation3::new(t[0], t[1], t[2]), UnitQuaternion::from_axis_angle(&Vector3::z_axis(), angle));
+                ObstacleFrame::new(&pose, shape(2 * kind, a, b))
+            })
+            .collect();
+        let solids = super::far::UprightSolids::new(&frames).expect("upright boxes and cylinders");
+        let column = |i: usize| frames.iter().map(|o| o.t[i]).collect::<Vec<f64>>();
+        let ts = [column(0), column(1), column(2)];
+        let (least, near) = solids.clear_of(centre, radius, [&ts[0], &ts[1], &ts[2]], (0, frames.len()), &mut Vec::new());
+        let (mut want, mut want_near) = (f64::INFINITY, 0u64);
+        for (i, o) in frames.iter().enumerate() {
+            let d = o.signed_distance(centre[0], centre[1], centre[2]);
+            if d > radius {
+                want = want.min(d - radius);
+            } else {
+                want_near |= 1 << i;
+            }
+        }
+        prop_assert_eq!(near, want_near);
+        prop_assert_eq!(least.to_bits(), want.to_bits());
+    }
+}
+
+/// Spheres, capsules and tilted solids leave the broad phase to the bounding spheres.
+#[test]
+fn only_upright_boxes_and_cylinders_make_solids() {
+    let up = Isometry3::translation(0.1, 0.2, 0.3);
+    let tilt =
+        Isometry3::from_parts(Translation3::identity(), UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.1));
+    let frame = |pose: &Isometry3<f64>, kind: usize| ObstacleFrame::new(pose, shape(kind, 0.1, 0.2));
+    assert!(super::far::UprightSolids::new(&[frame(&up, 0), frame(&up, 2)]).is_some());
+    assert!(super::far::UprightSolids::new(&[frame(&up, 0), frame(&up, 1)]).is_none());
+    assert!(super::far::UprightSolids::new(&[frame(&up, 0), frame(&up, 3)]).is_none());
+    assert!(super::far::UprightSolids::new(&[frame(&tilt, 0)]).is_none());
+}

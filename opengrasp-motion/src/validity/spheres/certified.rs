@@ -82,9 +82,10 @@ impl SphereWorld {
         let (frames, fine, rough) = (s.frames.as_slice(), &mut s.centres, &mut s.coarse);
         match test {
             Test::Obstacles { k } => {
-                // Every obstacle's bounding sphere first, all at once; then those it does not
-                // clear, the one that failed last for this link first (a state in collision
-                // usually hits what one did lately). The least gap does not depend on the order.
+                // The link's bounding sphere against every obstacle first, all at once; then
+                // the spheres against those it does not clear, the one that failed last for
+                // this link first (a state in collision usually hits what one did lately).
+                // The least gap does not depend on the order.
                 let first = s.first_obstacle.get(k).copied().unwrap_or(usize::MAX);
                 let mut least = f64::INFINITY;
                 for from in (0..self.obstacles.len()).step_by(FAR_BATCH) {
@@ -99,11 +100,9 @@ impl SphereWorld {
                         {
                             s.evaluated += 1;
                         }
-                        let gap = self.soa.link_inside_gap(o, k, fine).or_else(|| {
-                            coarse
-                                .and_then(|c| c.link_gap(o, k, frames, rough))
-                                .or_else(|| self.soa.link_gap(o, k, frames, fine))
-                        });
+                        let gap = coarse
+                            .and_then(|c| c.link_gap(o, k, frames, rough))
+                            .or_else(|| self.soa.link_gap(o, k, frames, fine));
                         let Some(gap) = gap else {
                             if s.first_obstacle.len() <= k {
                                 s.first_obstacle.resize(k + 1, usize::MAX);
