@@ -54,7 +54,9 @@ fn cube_cell(dir: &Vector3<f64>) -> Option<usize> {
     }
     let (u, v) = (dir[(axis + 1) % 3] / m.abs(), dir[(axis + 2) % 3] / m.abs());
     let k = CUBE_CELLS as f64;
-    let cell = |t: f64| (((t + 1.0) * 0.5 * k) as usize).min(CUBE_CELLS - 1);
+    // `u, v ∈ [−1, 1]`: the cell is in 0..=16 before the clamp. Through i32, a signed
+    // conversion x86 does in one instruction (f64 → usize needs a branchy unsigned one).
+    let cell = |t: f64| (((t + 1.0) * 0.5 * k) as i32).clamp(0, CUBE_CELLS as i32 - 1) as usize;
     let face = 2 * axis + usize::from(m < 0.0);
     Some((face * CUBE_CELLS + cell(u)) * CUBE_CELLS + cell(v))
 }
@@ -90,6 +92,29 @@ fn linear_support_id(points: &[Point3<f64>], dir: &Vector3<f64>) -> usize {
         }
     }
     best
+}
+
+/// The vertices a plateau search of [`ClimbingHull::support_id`] has visited: a bitset, or
+/// (`marked` false, hulls of more than `64 × MARK_WORDS` vertices) the search's own list.
+struct Visited {
+    marked: bool,
+    marks: [u64; MARK_WORDS],
+}
+
+impl Visited {
+    /// Marks `v` visited; true if it was not before. `seen` is the search's list of the
+    /// vertices visited so far (read only when the bitset is not used).
+    #[inline(always)]
+    fn first_visit(&mut self, v: u32, seen: &[u32]) -> bool {
+        if self.marked {
+            let (word, bit) = (v as usize / 64, 1u64 << (v % 64));
+            let fresh = self.marks[word] & bit == 0;
+            self.marks[word] |= bit;
+            fresh
+        } else {
+            !seen.contains(&v)
+        }
+    }
 }
 
 /// A convex polyhedron with a hill-climbing support function (see the module docs).
@@ -184,29 +209,18 @@ impl ClimbingHull {
         // The plateau's vertices in discovery order; `seen[..next]` have been expanded.
         // Visited vertices are marked in a bitset (or, on very large hulls, looked up in
         // `seen`, which then holds at most SMALL_PLATEAU_CAP vertices).
-        let marked = pts.len() <= 64 * MARK_WORDS;
-        let cap = if marked { PLATEAU_CAP } else { SMALL_PLATEAU_CAP };
-        let mut marks = [0u64; MARK_WORDS];
-        let mut first_visit = |v: u32, seen: &[u32]| {
-            if marked {
-                let (word, bit) = (v as usize / 64, 1u64 << (v % 64));
-                let fresh = marks[word] & bit == 0;
-                marks[word] |= bit;
-                fresh
-            } else {
-                !seen.contains(&v)
-            }
-        };
+        let mut visited = Visited { marked: pts.len() <= 64 * MARK_WORDS, marks: [0; MARK_WORDS] };
+        let cap = if visited.marked { PLATEAU_CAP } else { SMALL_PLATEAU_CAP };
         let mut seen = [0u32; PLATEAU_CAP];
         seen[0] = best as u32;
-        first_visit(best as u32, &[]);
+        visited.first_visit(best as u32, &[]);
         let (mut len, mut next) = (1, 0);
         let (mut win, mut win_dot) = (best, best_dot);
         while next < len {
             let v = seen[next] as usize;
             next += 1;
             for &nb in self.neighbours(v) {
-                if !first_visit(nb, &seen[..len]) {
+                if !visited.first_visit(nb, &seen[..len]) {
                     continue;
                 }
                 let d = dot(nb as usize);
