@@ -5,9 +5,9 @@
 //! dominates GJK on hulls of a few hundred vertices (scanned objects, lathed or lofted meshes).
 //! [`ClimbingHull`] wraps the same polyhedron (same geometry, same vertices) and answers the
 //! support query by hill climbing from a precomputed vertex: the support vertex of the centre
-//! of the query direction's cell in a cube map (6 × 16 × 16 cells), usually the answer or one
-//! or two edges from it; on a convex polyhedron a vertex no neighbour improves is a global
-//! maximum. The vertices within a tiny tolerance of the maximum are then searched for the one
+//! of the query direction's cell in a cube map (6 × 32 × 32 cells, each found at construction
+//! by climbing from the previous cell's), usually the answer or one or two edges from it; on a
+//! convex polyhedron a vertex no neighbour improves is a global maximum. The vertices within a tiny tolerance of the maximum are then searched for the one
 //! parry's linear scan would return (the largest dot product, lowest index among equals; the
 //! linear scan itself for a plateau of more than 32 vertices, a finely lathed cap), so the
 //! support points — and hence every GJK/EPA result — are the same as with the plain
@@ -22,7 +22,7 @@ use parry3d_f64::query::{PointProjection, PointQuery, Ray, RayCast, RayIntersect
 use parry3d_f64::shape::{ConvexPolyhedron, FeatureId, PolygonalFeatureMap, Shape, ShapeType, SupportMap, TypedShape};
 
 /// Cells per face edge of the direction cube map that seeds the climb.
-const CUBE_CELLS: usize = 16;
+const CUBE_CELLS: usize = 32;
 
 /// Largest plateau (near-tied vertices) searched on the vertex graph; a larger one is answered
 /// by the linear scan. Large enough for the cap of a finely lathed solid (64–127 segments)
@@ -156,10 +156,27 @@ impl ClimbingHull {
             adj.extend_from_slice(l);
         }
         start.push(adj.len() as u32);
-        let seeds: Vec<u32> = cube_directions().iter().map(|d| linear_support_id(poly.points(), d) as u32).collect();
         let radius = poly.points().iter().map(|p| p.coords.norm()).fold(0.0, f64::max);
         let tolerance = 1e-12 * radius.max(1e-300);
-        Self { poly, start, adj, seeds, tolerance }
+        let mut hull = Self { poly, start, adj, seeds: Vec::new(), tolerance };
+        hull.seeds = hull.cube_seeds();
+        hull
+    }
+
+    /// The support vertex of every cube-map cell's centre direction, in cell order: the first
+    /// by the linear scan, each next one climbed from the one before (an adjacent cell's, but
+    /// for the first of a row or face; any start climbs to the linear scan's vertex, so these
+    /// are the linear scan's answers at a fraction of its cost on large hulls).
+    fn cube_seeds(&self) -> Vec<u32> {
+        let mut seeds: Vec<u32> = Vec::with_capacity(6 * CUBE_CELLS * CUBE_CELLS);
+        for d in cube_directions() {
+            let s = match seeds.last() {
+                Some(&prev) => self.support_from(prev as usize, &d),
+                None => linear_support_id(self.poly.points(), &d),
+            };
+            seeds.push(s as u32);
+        }
+        seeds
     }
 
     /// The wrapped polyhedron.
@@ -173,12 +190,19 @@ impl ClimbingHull {
 
     /// Index of the support vertex in direction `dir`: the vertex parry's linear scan returns.
     pub fn support_id(&self, dir: &Vector3<f64>) -> usize {
+        let Some(cell) = cube_cell(dir) else {
+            return linear_support_id(self.poly.points(), dir);
+        };
+        self.support_from(self.seeds[cell] as usize, dir)
+    }
+
+    /// [`support_id`](Self::support_id) climbing from vertex `start` (any vertex gives the
+    /// same answer, a nearer one sooner).
+    #[inline(always)]
+    fn support_from(&self, start: usize, dir: &Vector3<f64>) -> usize {
         let pts = self.poly.points();
         let dot = |v: usize| pts[v].coords.dot(dir);
-        let Some(cell) = cube_cell(dir) else {
-            return linear_support_id(pts, dir);
-        };
-        let mut best = self.seeds[cell] as usize;
+        let mut best = start;
         let mut best_dot = dot(best);
         if !best_dot.is_finite() {
             return linear_support_id(pts, dir);
@@ -364,6 +388,18 @@ mod tests {
             // Along the axis every cap vertex ties: the lowest index of the top cap wins.
             assert_eq!(hull.support_id(&Vector3::z()), linear_support_id(poly.points(), &Vector3::z()));
             assert_eq!(poly.points()[hull.support_id(&Vector3::z())].z, 0.14);
+        }
+    }
+
+    /// The climbed cube-map seeds are the linear scan's vertices of the cells' directions.
+    #[test]
+    fn climbed_seeds_are_the_linear_scan_vertices() {
+        for n in [7, 48, 300] {
+            let poly = cylinder(n);
+            let hull = ClimbingHull::new(poly.clone());
+            let linear: Vec<u32> =
+                cube_directions().iter().map(|d| linear_support_id(poly.points(), d) as u32).collect();
+            assert_eq!(hull.seeds, linear, "{n} segments");
         }
     }
 
