@@ -213,7 +213,10 @@ impl ClimbingHull {
             let mut top = f64::NEG_INFINITY;
             for &nb in self.neighbours(best) {
                 let d = dot(nb as usize);
-                top = top.max(d);
+                // `f64::max` without its NaN handling: a NaN `d` is skipped either way.
+                if d > top {
+                    top = d;
+                }
                 if d > best_dot {
                     best = nb as usize;
                     best_dot = d;
