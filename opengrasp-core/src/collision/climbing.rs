@@ -5,9 +5,9 @@
 //! dominates GJK on hulls of a few hundred vertices (scanned objects, lathed or lofted meshes).
 //! [`ClimbingHull`] wraps the same polyhedron (same geometry, same vertices) and answers the
 //! support query by hill climbing from a precomputed vertex: the support vertex of the centre
-//! of the query direction's cell in a cube map (6 × 16 × 16 cells), usually the answer or one
-//! or two edges from it; on a convex polyhedron a vertex no neighbour improves is a global
-//! maximum. The vertices within a tiny tolerance of the maximum are then searched for the one
+//! of the query direction's cell in a cube map (6 × 32 × 32 cells, each found at construction
+//! by climbing from the previous cell's), usually the answer or one or two edges from it; on a
+//! convex polyhedron a vertex no neighbour improves is a global maximum. The vertices within a tiny tolerance of the maximum are then searched for the one
 //! parry's linear scan would return (the largest dot product, lowest index among equals; the
 //! linear scan itself for a plateau of more than 32 vertices, a finely lathed cap), so the
 //! support points — and hence every GJK/EPA result — are the same as with the plain
@@ -22,7 +22,7 @@ use parry3d_f64::query::{PointProjection, PointQuery, Ray, RayCast, RayIntersect
 use parry3d_f64::shape::{ConvexPolyhedron, FeatureId, PolygonalFeatureMap, Shape, ShapeType, SupportMap, TypedShape};
 
 /// Cells per face edge of the direction cube map that seeds the climb.
-const CUBE_CELLS: usize = 16;
+const CUBE_CELLS: usize = 32;
 
 /// Largest plateau (near-tied vertices) searched on the vertex graph; a larger one is answered
 /// by the linear scan. Large enough for the cap of a finely lathed solid (64–127 segments)
@@ -54,7 +54,9 @@ fn cube_cell(dir: &Vector3<f64>) -> Option<usize> {
     }
     let (u, v) = (dir[(axis + 1) % 3] / m.abs(), dir[(axis + 2) % 3] / m.abs());
     let k = CUBE_CELLS as f64;
-    let cell = |t: f64| (((t + 1.0) * 0.5 * k) as usize).min(CUBE_CELLS - 1);
+    // `u, v ∈ [−1, 1]`: the cell is in 0..=16 before the clamp. Through i32, a signed
+    // conversion x86 does in one instruction (f64 → usize needs a branchy unsigned one).
+    let cell = |t: f64| (((t + 1.0) * 0.5 * k) as i32).clamp(0, CUBE_CELLS as i32 - 1) as usize;
     let face = 2 * axis + usize::from(m < 0.0);
     Some((face * CUBE_CELLS + cell(u)) * CUBE_CELLS + cell(v))
 }
@@ -90,6 +92,29 @@ fn linear_support_id(points: &[Point3<f64>], dir: &Vector3<f64>) -> usize {
         }
     }
     best
+}
+
+/// The vertices a plateau search of [`ClimbingHull::support_id`] has visited: a bitset, or
+/// (`marked` false, hulls of more than `64 × MARK_WORDS` vertices) the search's own list.
+struct Visited {
+    marked: bool,
+    marks: [u64; MARK_WORDS],
+}
+
+impl Visited {
+    /// Marks `v` visited; true if it was not before. `seen` is the search's list of the
+    /// vertices visited so far (read only when the bitset is not used).
+    #[inline(always)]
+    fn first_visit(&mut self, v: u32, seen: &[u32]) -> bool {
+        if self.marked {
+            let (word, bit) = (v as usize / 64, 1u64 << (v % 64));
+            let fresh = self.marks[word] & bit == 0;
+            self.marks[word] |= bit;
+            fresh
+        } else {
+            !seen.contains(&v)
+        }
+    }
 }
 
 /// A convex polyhedron with a hill-climbing support function (see the module docs).
@@ -131,10 +156,27 @@ impl ClimbingHull {
             adj.extend_from_slice(l);
         }
         start.push(adj.len() as u32);
-        let seeds: Vec<u32> = cube_directions().iter().map(|d| linear_support_id(poly.points(), d) as u32).collect();
         let radius = poly.points().iter().map(|p| p.coords.norm()).fold(0.0, f64::max);
         let tolerance = 1e-12 * radius.max(1e-300);
-        Self { poly, start, adj, seeds, tolerance }
+        let mut hull = Self { poly, start, adj, seeds: Vec::new(), tolerance };
+        hull.seeds = hull.cube_seeds();
+        hull
+    }
+
+    /// The support vertex of every cube-map cell's centre direction, in cell order: the first
+    /// by the linear scan, each next one climbed from the one before (an adjacent cell's, but
+    /// for the first of a row or face; any start climbs to the linear scan's vertex, so these
+    /// are the linear scan's answers at a fraction of its cost on large hulls).
+    fn cube_seeds(&self) -> Vec<u32> {
+        let mut seeds: Vec<u32> = Vec::with_capacity(6 * CUBE_CELLS * CUBE_CELLS);
+        for d in cube_directions() {
+            let s = match seeds.last() {
+                Some(&prev) => self.support_from(prev as usize, &d),
+                None => linear_support_id(self.poly.points(), &d),
+            };
+            seeds.push(s as u32);
+        }
+        seeds
     }
 
     /// The wrapped polyhedron.
@@ -148,12 +190,19 @@ impl ClimbingHull {
 
     /// Index of the support vertex in direction `dir`: the vertex parry's linear scan returns.
     pub fn support_id(&self, dir: &Vector3<f64>) -> usize {
+        let Some(cell) = cube_cell(dir) else {
+            return linear_support_id(self.poly.points(), dir);
+        };
+        self.support_from(self.seeds[cell] as usize, dir)
+    }
+
+    /// [`support_id`](Self::support_id) climbing from vertex `start` (any vertex gives the
+    /// same answer, a nearer one sooner).
+    #[inline(always)]
+    fn support_from(&self, start: usize, dir: &Vector3<f64>) -> usize {
         let pts = self.poly.points();
         let dot = |v: usize| pts[v].coords.dot(dir);
-        let Some(cell) = cube_cell(dir) else {
-            return linear_support_id(pts, dir);
-        };
-        let mut best = self.seeds[cell] as usize;
+        let mut best = start;
         let mut best_dot = dot(best);
         if !best_dot.is_finite() {
             return linear_support_id(pts, dir);
@@ -164,7 +213,10 @@ impl ClimbingHull {
             let mut top = f64::NEG_INFINITY;
             for &nb in self.neighbours(best) {
                 let d = dot(nb as usize);
-                top = top.max(d);
+                // `f64::max` without its NaN handling: a NaN `d` is skipped either way.
+                if d > top {
+                    top = d;
+                }
                 if d > best_dot {
                     best = nb as usize;
                     best_dot = d;
@@ -184,29 +236,18 @@ impl ClimbingHull {
         // The plateau's vertices in discovery order; `seen[..next]` have been expanded.
         // Visited vertices are marked in a bitset (or, on very large hulls, looked up in
         // `seen`, which then holds at most SMALL_PLATEAU_CAP vertices).
-        let marked = pts.len() <= 64 * MARK_WORDS;
-        let cap = if marked { PLATEAU_CAP } else { SMALL_PLATEAU_CAP };
-        let mut marks = [0u64; MARK_WORDS];
-        let mut first_visit = |v: u32, seen: &[u32]| {
-            if marked {
-                let (word, bit) = (v as usize / 64, 1u64 << (v % 64));
-                let fresh = marks[word] & bit == 0;
-                marks[word] |= bit;
-                fresh
-            } else {
-                !seen.contains(&v)
-            }
-        };
+        let mut visited = Visited { marked: pts.len() <= 64 * MARK_WORDS, marks: [0; MARK_WORDS] };
+        let cap = if visited.marked { PLATEAU_CAP } else { SMALL_PLATEAU_CAP };
         let mut seen = [0u32; PLATEAU_CAP];
         seen[0] = best as u32;
-        first_visit(best as u32, &[]);
+        visited.first_visit(best as u32, &[]);
         let (mut len, mut next) = (1, 0);
         let (mut win, mut win_dot) = (best, best_dot);
         while next < len {
             let v = seen[next] as usize;
             next += 1;
             for &nb in self.neighbours(v) {
-                if !first_visit(nb, &seen[..len]) {
+                if !visited.first_visit(nb, &seen[..len]) {
                     continue;
                 }
                 let d = dot(nb as usize);
@@ -350,6 +391,18 @@ mod tests {
             // Along the axis every cap vertex ties: the lowest index of the top cap wins.
             assert_eq!(hull.support_id(&Vector3::z()), linear_support_id(poly.points(), &Vector3::z()));
             assert_eq!(poly.points()[hull.support_id(&Vector3::z())].z, 0.14);
+        }
+    }
+
+    /// The climbed cube-map seeds are the linear scan's vertices of the cells' directions.
+    #[test]
+    fn climbed_seeds_are_the_linear_scan_vertices() {
+        for n in [7, 48, 300] {
+            let poly = cylinder(n);
+            let hull = ClimbingHull::new(poly.clone());
+            let linear: Vec<u32> =
+                cube_directions().iter().map(|d| linear_support_id(poly.points(), d) as u32).collect();
+            assert_eq!(hull.seeds, linear, "{n} segments");
         }
     }
 

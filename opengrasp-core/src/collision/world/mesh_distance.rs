@@ -70,10 +70,16 @@ impl TriangleBounds {
     /// is loosened by a rotation).
     pub(super) fn box_gap(&self, tri: &Triangle) -> f64 {
         let (a, b, c) = (self.map(&tri.a), self.map(&tri.b), self.map(&tri.c));
-        let lo = a.inf(&b).inf(&c);
-        let hi = a.sup(&b).sup(&c);
-        let gap = (self.local.mins.coords - hi).sup(&(lo - self.local.maxs.coords)).sup(&Vector3::zeros());
-        gap.norm()
+        // Plain comparisons rather than `f64::min`/`max` (whose NaN handling costs
+        // instructions): the coordinates are finite, and the bound only prunes.
+        let (min, max) = (|x: f64, y: f64| if y < x { y } else { x }, |x: f64, y: f64| if y > x { y } else { x });
+        let mut sq = 0.0;
+        for i in 0..3 {
+            let (lo, hi) = (min(min(a[i], b[i]), c[i]), max(max(a[i], b[i]), c[i]));
+            let gap = max(max(self.local.mins[i] - hi, lo - self.local.maxs[i]), 0.0);
+            sq += gap * gap;
+        }
+        sq.sqrt()
     }
 
     /// The distance between the shape's box and the triangle's plane when the box lies
