@@ -211,7 +211,17 @@ impl SphereCertifier {
     /// `margin` of an obstacle, or any value of at least `cap` once that is certain (`-inf`
     /// if it may be within `margin` now): per obstacle, the better of the distance bound over
     /// the link's rate and the vertical gap over its vertical rate.
-    fn obstacle_ttc(&self, scratch: &Scratch, k: usize, motion: &Motion, margin: f64, cap: f64) -> f64 {
+    ///
+    /// An obstacle is measured by the model's bounding ball alone when its time reaches
+    /// `sufficient` (see [`SphereCertifier::pair_ball_ttc`]).
+    fn obstacle_ttc(
+        &self,
+        scratch: &Scratch,
+        k: usize,
+        motion: &Motion,
+        margin: f64,
+        (cap, sufficient): (f64, f64),
+    ) -> f64 {
         let slot = self.models[k].slot;
         let (rate, vrate) = (motion.rates[slot], motion.vertical_rates[slot]);
         let (c, r) = scratch.balls[k];
@@ -231,6 +241,11 @@ impl SphereCertifier {
             }
             let whole = distance(&Placed::Ball(c, r), o, enough);
             if whole >= enough {
+                continue;
+            }
+            let cheap = time(whole, margin, rate).max(vertical);
+            if cheap >= sufficient && whole > margin {
+                best = best.min(cheap);
                 continue;
             }
             // The model's ball bounds every primitive's distance from below as well.
@@ -338,6 +353,11 @@ impl SphereCertifier {
         // Certifying up to a little past the end finishes the motion.
         let remaining = 1.0 - t + 1e-9;
         let refine_below = if self.exact.is_some() { remaining.min(EXACT_BELOW) } else { f64::NEG_INFINITY };
+        // The step goes no farther than the horizons that are not evaluated now.
+        let floor =
+            scratch.active.iter().map(|&k| scratch.horizon[k]).filter(|&h| h > until).fold(f64::INFINITY, f64::min);
+        let pairs = self.pairs_step(scratch, motion, margin, (t, until, step), floor)?;
+        let mut earliest = floor.min(pairs);
         scratch.refine.clear();
         for a in 0..scratch.active.len() {
             let k = scratch.active[a];
@@ -349,7 +369,11 @@ impl SphereCertifier {
                 continue;
             }
             self.place(k, step, scratch);
-            let ttc = self.obstacle_ttc(scratch, k, motion, margin, remaining);
+            // The models' balls suffice where they certify past the earliest horizon so far
+            // (and need no exact refinement).
+            let sufficient = (earliest - t).max(refine_below);
+            let ttc = self.obstacle_ttc(scratch, k, motion, margin, (remaining, sufficient));
+            earliest = earliest.min(t + ttc);
             if ttc < refine_below {
                 scratch.refine.push((k, ttc));
             } else if ttc <= 0.0 {
@@ -361,9 +385,24 @@ impl SphereCertifier {
         if !scratch.refine.is_empty() {
             self.refine(scratch, motion, margin, t, remaining)?;
         }
-        // The pairs' pass also drops those certified to the end and finds the earliest
-        // horizon (a stuck step leaves the list half compacted: the motion ends there).
-        let mut earliest = scratch.earliest_model_horizon();
+        Ok(scratch.earliest_model_horizon().min(pairs))
+    }
+
+    /// The pairs' part of [`SphereCertifier::step`] (`(t, until, step)` as there), before the
+    /// models', whose horizons not evaluated now are at least `floor`: evaluates the pairs
+    /// whose horizon is reached or will be before `until`, drops those certified to the end
+    /// and returns the earliest pair horizon (a stuck step leaves the list half compacted: the
+    /// motion ends there).
+    fn pairs_step(
+        &self,
+        scratch: &mut Scratch,
+        motion: &Motion,
+        margin: f64,
+        (t, until, step): (f64, f64, usize),
+        floor: f64,
+    ) -> Result<f64, Stuck> {
+        let remaining = 1.0 - t + 1e-9;
+        let mut earliest = f64::INFINITY;
         let mut kept = 0;
         for a in 0..scratch.active_pairs.len() {
             let p = scratch.active_pairs[a];
@@ -372,7 +411,8 @@ impl SphereCertifier {
                 self.place_ball(i, step, scratch);
                 self.place_ball(j, step, scratch);
                 // The step goes no farther than the earliest horizon so far.
-                let ttc = match self.pair_ball_ttc(scratch, p, motion, margin, (remaining, earliest - t)) {
+                let sufficient = earliest.min(floor) - t;
+                let ttc = match self.pair_ball_ttc(scratch, p, motion, margin, (remaining, sufficient)) {
                     Ok(ttc) => ttc,
                     Err(ball) => {
                         self.place(i, step, scratch);
