@@ -84,53 +84,36 @@ pub(crate) fn segment_subdivisions(a: &[f64], b: &[f64], step: f64) -> usize {
 /// [`segment_valid_discrete_by`] with a caller's buffer for the interpolated states.
 pub(crate) fn segment_valid_discrete_into(
     q: &mut Vec<f64>,
-    valid: impl FnMut(&[f64]) -> bool,
-    a: &[f64],
-    b: &[f64],
-    step: f64,
-) -> bool {
-    segment_valid_discrete_first(q, valid, a, b, step, usize::MAX)
-}
-
-/// The first `states` states of [`segment_valid_discrete`]'s order (end state first, then
-/// coarse to fine): false if one of them is invalid, so that the full check rejects the
-/// segment too.
-pub(crate) fn segment_probe(valid: impl FnMut(&[f64]) -> bool, a: &[f64], b: &[f64], step: f64, states: usize) -> bool {
-    segment_valid_discrete_first(&mut Vec::with_capacity(a.len()), valid, a, b, step, states)
-}
-
-/// [`segment_valid_discrete_into`] stopping (true) after `states` checked states.
-fn segment_valid_discrete_first(
-    q: &mut Vec<f64>,
     mut valid: impl FnMut(&[f64]) -> bool,
     a: &[f64],
     b: &[f64],
     step: f64,
+) -> bool {
+    valid(b) && interior_valid(q, valid, a, b, segment_subdivisions(a, b, step), usize::MAX)
+}
+
+/// The first `states` states of [`segment_valid_discrete`]'s order after the end state (the
+/// middle, the quarters, ...): false if one of them is invalid, so that the full check
+/// rejects the segment too. The end state is left out: the callers' segments end on a path
+/// whose states are known valid, and its check decides the segment in any case.
+pub(crate) fn segment_probe(valid: impl FnMut(&[f64]) -> bool, a: &[f64], b: &[f64], step: f64, states: usize) -> bool {
+    interior_valid(&mut Vec::with_capacity(a.len()), valid, a, b, segment_subdivisions(a, b, step), states)
+}
+
+/// Whether the first `states` of the coarse-to-fine subdivision states `1..n` of `a → b`
+/// ([`coarse_to_fine`], each at `i / n`) are valid.
+fn interior_valid(
+    q: &mut Vec<f64>,
+    mut valid: impl FnMut(&[f64]) -> bool,
+    a: &[f64],
+    b: &[f64],
+    n: usize,
     states: usize,
 ) -> bool {
-    let mut budget = states;
-    let mut valid = move |q: &[f64]| {
-        if budget == 0 {
-            return None;
-        }
-        budget -= 1;
-        Some(valid(q))
-    };
-    match valid(b) {
-        Some(false) => return false,
-        None => return true,
-        Some(true) => {}
-    }
-    let n = segment_subdivisions(a, b, step);
-    for i in coarse_to_fine(n) {
+    coarse_to_fine(n).take(states).all(|i| {
         interpolate_into(a, b, i as f64 / n as f64, q);
-        match valid(q) {
-            Some(false) => return false,
-            None => return true,
-            Some(true) => {}
-        }
-    }
-    true
+        valid(q)
+    })
 }
 
 /// The subdivision states `1..n` of a motion of `n` steps in the order of the discrete check

@@ -5,6 +5,11 @@
 //! advances to the smallest horizon, where only the links and pairs whose horizon is reached
 //! are evaluated again. Every link and pair is thus covered by a gapless chain of certified
 //! intervals from 0 to its horizon, and the motion is free once every horizon reaches 1.
+//!
+//! A pair is first measured by its two models' bounding balls; their primitives are placed
+//! and measured only when the balls' horizon falls short of the step's (the earliest horizon
+//! so far), which the step cannot pass anyway. A shorter horizon is still a certified one: the
+//! pair is evaluated again, perhaps by its primitives, when it expires.
 
 use std::cell::RefCell;
 
@@ -46,6 +51,11 @@ struct Scratch {
     ranges: Vec<(usize, usize)>,
     z: Vec<(f64, f64)>,
     prims: Vec<Placed>,
+    /// Per model: the step at which its bounding ball was last placed (pairs place the balls
+    /// alone, the primitives only when the balls do not suffice).
+    ball_stamp: Vec<usize>,
+    /// Bounding ball of each placed primitive.
+    prim_balls: Vec<(Vector3<f64>, f64)>,
     /// Certified horizon of each model and of each pair.
     horizon: Vec<f64>,
     pair_horizon: Vec<f64>,
@@ -90,6 +100,23 @@ fn time(gap: f64, margin: f64, rate: f64) -> f64 {
     }
 }
 
+/// The smaller of `d` and the distance lower bounds from `o` (bounding ball `o_ball`) to the
+/// placed primitives `prims` (with their bounding balls): a primitive whose ball is at least
+/// `d` from `o`'s ball is at least `d` away, so only the others are measured.
+fn min_distance<'a>(
+    prims: impl Iterator<Item = (&'a Placed, &'a (Vector3<f64>, f64))>,
+    o: &Placed,
+    (oc, or): (&Vector3<f64>, f64),
+    mut d: f64,
+) -> f64 {
+    for (p, (pc, pr)) in prims {
+        if (pc - oc).norm() - pr - or < d {
+            d = d.min(distance(p, o, d));
+        }
+    }
+    d
+}
+
 impl SphereCertifier {
     /// Sizes the buffers for this model and resets them for a new motion.
     fn reset(&self, scratch: &mut Scratch) {
@@ -106,9 +133,12 @@ impl SphereCertifier {
         };
         scratch.stamp.clear();
         scratch.stamp.resize(models, usize::MAX);
+        scratch.ball_stamp.clear();
+        scratch.ball_stamp.resize(models, usize::MAX);
         scratch.balls.resize(models, (Vector3::zeros(), 0.0));
         scratch.z.resize(models, (0.0, 0.0));
         scratch.prims.resize(n, Placed::Ball(Vector3::zeros(), 0.0));
+        scratch.prim_balls.resize(n, (Vector3::zeros(), 0.0));
         refill(&mut scratch.horizon, models);
         refill(&mut scratch.pair_horizon, self.pairs.len());
         scratch.active.clear();
@@ -144,19 +174,32 @@ impl SphereCertifier {
         scratch.poses
     }
 
-    /// Places model `k` at the state of step `step` unless it already is.
+    /// Places the bounding ball of model `k` at the state of step `step` unless it already is.
+    fn place_ball(&self, k: usize, step: usize, scratch: &mut Scratch) {
+        if scratch.ball_stamp[k] == step {
+            return;
+        }
+        scratch.ball_stamp[k] = step;
+        let m = &self.models[k];
+        scratch.balls[k] = ((self.base_pose * (scratch.poses[m.link.0] * m.ball.0)).coords, m.ball.1);
+    }
+
+    /// Places model `k` (its ball and its primitives) at the state of step `step` unless it
+    /// already is.
     fn place(&self, k: usize, step: usize, scratch: &mut Scratch) {
         if scratch.stamp[k] == step {
             return;
         }
         scratch.stamp[k] = step;
+        self.place_ball(k, step, scratch);
         let m = &self.models[k];
         let pose = self.base_pose * scratch.poses[m.link.0];
-        scratch.balls[k] = ((pose * m.ball.0).coords, m.ball.1);
         let (start, end) = scratch.ranges[k];
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-        for (slot, p) in scratch.prims[start..end].iter_mut().zip(&m.prims) {
+        let slots = scratch.prims[start..end].iter_mut().zip(&mut scratch.prim_balls[start..end]);
+        for ((slot, ball), p) in slots.zip(&m.prims) {
             *slot = Placed::new(p, &pose);
+            *ball = slot.bounding_ball();
             let (a, b) = slot.z_range();
             lo = lo.min(a);
             hi = hi.max(b);
@@ -168,12 +211,23 @@ impl SphereCertifier {
     /// `margin` of an obstacle, or any value of at least `cap` once that is certain (`-inf`
     /// if it may be within `margin` now): per obstacle, the better of the distance bound over
     /// the link's rate and the vertical gap over its vertical rate.
-    fn obstacle_ttc(&self, scratch: &Scratch, k: usize, motion: &Motion, margin: f64, cap: f64) -> f64 {
+    ///
+    /// An obstacle is measured by the model's bounding ball alone when its time reaches
+    /// `sufficient` (see [`SphereCertifier::pair_ball_ttc`]).
+    fn obstacle_ttc(
+        &self,
+        scratch: &Scratch,
+        k: usize,
+        motion: &Motion,
+        margin: f64,
+        (cap, sufficient): (f64, f64),
+    ) -> f64 {
         let slot = self.models[k].slot;
         let (rate, vrate) = (motion.rates[slot], motion.vertical_rates[slot]);
         let (c, r) = scratch.balls[k];
         let (lo, hi) = scratch.z[k];
-        let prims = &scratch.prims[scratch.ranges[k].0..scratch.ranges[k].1];
+        let (start, end) = scratch.ranges[k];
+        let prims = scratch.prims[start..end].iter().zip(&scratch.prim_balls[start..end]);
         let mut best = cap;
         for ((o, (oc, or)), &(olo, ohi)) in self.obstacles.iter().zip(&self.obstacle_balls).zip(&self.obstacle_z) {
             let vertical = time((lo - ohi).max(olo - hi), margin, vrate);
@@ -182,36 +236,66 @@ impl SphereCertifier {
             }
             // The distance that certifies `best`.
             let enough = rate * best + margin;
-            if (c - oc).norm() - r - or >= enough || distance(&Placed::Ball(c, r), o, enough) >= enough {
+            if (c - oc).norm() - r - or >= enough {
                 continue;
             }
-            let mut d = enough.max(2.0 * margin);
-            for p in prims {
-                d = d.min(distance(p, o, d));
+            let whole = distance(&Placed::Ball(c, r), o, enough);
+            if whole >= enough {
+                continue;
             }
+            let cheap = time(whole, margin, rate).max(vertical);
+            if cheap >= sufficient && whole > margin {
+                best = best.min(cheap);
+                continue;
+            }
+            // The model's ball bounds every primitive's distance from below as well.
+            let d = min_distance(prims.clone(), o, (oc, *or), enough.max(2.0 * margin)).max(whole);
             best = best.min(time(d, margin, rate).max(vertical));
         }
         best
     }
 
-    /// Lower bound on the time before the two placed models of pair `p` come within `margin`
-    /// of each other, or any value of at least `cap` once that is certain.
-    fn pair_ttc(&self, scratch: &Scratch, p: usize, motion: &Motion, margin: f64, cap: f64) -> f64 {
+    /// Lower bound on the time before the two models of pair `p` (their balls placed) come
+    /// within `margin` of each other, from their bounding balls, if that time reaches the end
+    /// of the motion (`cap`) or `sufficient` (a time the step cannot pass anyway: the pair is
+    /// evaluated again when it expires); otherwise `Err` with the balls' distance.
+    fn pair_ball_ttc(
+        &self,
+        scratch: &Scratch,
+        p: usize,
+        motion: &Motion,
+        margin: f64,
+        (cap, sufficient): (f64, f64),
+    ) -> Result<f64, f64> {
         let (i, j) = self.pairs[p];
         let rate = motion.pair_rates[p];
         let ((ca, ra), (cb, rb)) = (scratch.balls[i], scratch.balls[j]);
-        let enough = rate * cap + margin;
         let ball = (ca - cb).norm() - ra - rb;
-        if ball >= enough && ball > margin {
-            return time(ball, margin, rate);
+        let ttc = time(ball, margin, rate);
+        if ball > margin && (ball >= rate * cap + margin || ttc >= sufficient) {
+            Ok(ttc)
+        } else {
+            Err(ball)
         }
-        let mut d = enough.max(2.0 * margin);
-        for x in &scratch.prims[scratch.ranges[i].0..scratch.ranges[i].1] {
-            for y in &scratch.prims[scratch.ranges[j].0..scratch.ranges[j].1] {
-                d = d.min(distance(x, y, d));
+    }
+
+    /// Lower bound on the time before the two placed models of pair `p` come within `margin`
+    /// of each other, or any value of at least `cap` once that is certain, from their
+    /// primitives and the distance `ball` of their bounding balls.
+    fn pair_ttc(&self, scratch: &Scratch, p: usize, motion: &Motion, margin: f64, cap: f64, ball: f64) -> f64 {
+        let (i, j) = self.pairs[p];
+        let rate = motion.pair_rates[p];
+        let (cb, rb) = scratch.balls[j];
+        let mut d = (rate * cap + margin).max(2.0 * margin);
+        let ((si, ei), (sj, ej)) = (scratch.ranges[i], scratch.ranges[j]);
+        let others = scratch.prims[sj..ej].iter().zip(&scratch.prim_balls[sj..ej]);
+        for (x, &(xc, xr)) in scratch.prims[si..ei].iter().zip(&scratch.prim_balls[si..ei]) {
+            // Only the primitives of `i` whose ball comes within `d` of `j`'s ball can lower it.
+            if (xc - cb).norm() - xr - rb < d {
+                d = min_distance(others.clone(), x, (&xc, xr), d);
             }
         }
-        time(d, margin, rate)
+        time(d.max(ball), margin, rate)
     }
 
     /// Refines the models of `scratch.refine` by one exact distance query at the state of
@@ -269,6 +353,11 @@ impl SphereCertifier {
         // Certifying up to a little past the end finishes the motion.
         let remaining = 1.0 - t + 1e-9;
         let refine_below = if self.exact.is_some() { remaining.min(EXACT_BELOW) } else { f64::NEG_INFINITY };
+        // The step goes no farther than the horizons that are not evaluated now.
+        let floor =
+            scratch.active.iter().map(|&k| scratch.horizon[k]).filter(|&h| h > until).fold(f64::INFINITY, f64::min);
+        let pairs = self.pairs_step(scratch, motion, margin, (t, until, step), floor)?;
+        let mut earliest = floor.min(pairs);
         scratch.refine.clear();
         for a in 0..scratch.active.len() {
             let k = scratch.active[a];
@@ -280,7 +369,11 @@ impl SphereCertifier {
                 continue;
             }
             self.place(k, step, scratch);
-            let ttc = self.obstacle_ttc(scratch, k, motion, margin, remaining);
+            // The models' balls suffice where they certify past the earliest horizon so far
+            // (and need no exact refinement).
+            let sufficient = (earliest - t).max(refine_below);
+            let ttc = self.obstacle_ttc(scratch, k, motion, margin, (remaining, sufficient));
+            earliest = earliest.min(t + ttc);
             if ttc < refine_below {
                 scratch.refine.push((k, ttc));
             } else if ttc <= 0.0 {
@@ -292,17 +385,41 @@ impl SphereCertifier {
         if !scratch.refine.is_empty() {
             self.refine(scratch, motion, margin, t, remaining)?;
         }
-        // The pairs' pass also drops those certified to the end and finds the earliest
-        // horizon (a stuck step leaves the list half compacted: the motion ends there).
-        let mut earliest = scratch.earliest_model_horizon();
+        Ok(scratch.earliest_model_horizon().min(pairs))
+    }
+
+    /// The pairs' part of [`SphereCertifier::step`] (`(t, until, step)` as there), before the
+    /// models', whose horizons not evaluated now are at least `floor`: evaluates the pairs
+    /// whose horizon is reached or will be before `until`, drops those certified to the end
+    /// and returns the earliest pair horizon (a stuck step leaves the list half compacted: the
+    /// motion ends there).
+    fn pairs_step(
+        &self,
+        scratch: &mut Scratch,
+        motion: &Motion,
+        margin: f64,
+        (t, until, step): (f64, f64, usize),
+        floor: f64,
+    ) -> Result<f64, Stuck> {
+        let remaining = 1.0 - t + 1e-9;
+        let mut earliest = f64::INFINITY;
         let mut kept = 0;
         for a in 0..scratch.active_pairs.len() {
             let p = scratch.active_pairs[a];
             if scratch.pair_horizon[p] <= until {
                 let (i, j) = self.pairs[p];
-                self.place(i, step, scratch);
-                self.place(j, step, scratch);
-                let ttc = self.pair_ttc(scratch, p, motion, margin, remaining);
+                self.place_ball(i, step, scratch);
+                self.place_ball(j, step, scratch);
+                // The step goes no farther than the earliest horizon so far.
+                let sufficient = earliest.min(floor) - t;
+                let ttc = match self.pair_ball_ttc(scratch, p, motion, margin, (remaining, sufficient)) {
+                    Ok(ttc) => ttc,
+                    Err(ball) => {
+                        self.place(i, step, scratch);
+                        self.place(j, step, scratch);
+                        self.pair_ttc(scratch, p, motion, margin, remaining, ball)
+                    }
+                };
                 if ttc <= 0.0 {
                     return Err(Stuck);
                 }

@@ -88,6 +88,15 @@ impl Placed {
         }
     }
 
+    /// Centre and radius of a ball containing the primitive (as [`Prim::bounding_ball`]).
+    pub(super) fn bounding_ball(&self) -> (Vector3<f64>, f64) {
+        match self {
+            Placed::Ball(c, r) => (*c, *r),
+            Placed::Box(c, _, h) => (*c, h.norm()),
+            Placed::Cylinder(c, _, r, l) => (*c, r.hypot(*l)),
+        }
+    }
+
     /// Lowest and highest world z of the primitive (`(c.z − e, c.z + e)` with `e` its support
     /// along z).
     pub(super) fn z_range(&self) -> (f64, f64) {
