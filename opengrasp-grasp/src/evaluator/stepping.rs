@@ -4,7 +4,7 @@
 
 use nalgebra::{Isometry3, Point3, Vector3};
 use opengrasp_core::hand::Hand;
-use opengrasp_core::model::{JointKind, Robot};
+use opengrasp_core::model::{JointKind, LinkId, Robot};
 use opengrasp_core::object::ObjectModel;
 use opengrasp_core::physics::PhysicsEngine;
 use opengrasp_core::scene::{ObjectId, RobotId};
@@ -95,20 +95,18 @@ pub(super) fn run<E: PhysicsEngine>(
 /// flight `|u|` never decreases: the simulator's semi-implicit Euler steps (`v' = v + h g`,
 /// `u' = u + h v'`, any step lengths `h`) keep all three products non-negative and
 /// `|u'|² = |u|² + 2h u·v' + h²|v'|² ≥ |u|²` with `u·v' = u·v + h u·g ≥ 0`.
-/// Taken about the centre of a ball containing the hand in every configuration (the fixed root
-/// plus, per link, its joints' offsets, prismatic travel and shapes), with the object's centre
-/// farther than that ball's radius plus the object's own (its hull's farthest vertex from the
-/// centre of mass), the flight can never meet the hand again, so it lasts to the end of the
-/// run; taken about the control run's final centre of mass, the distance to it only grows, and
-/// once it exceeds `beyond` (the verdict's thresholds plus twice the centre of mass's offset
-/// from the object origin, since the verdict measures the origin) the full run would end
-/// [`super::HoldResult::Dropped`] too. Both conditions at once make the early verdict the full
-/// run's.
+/// Taken about the centre of each ball of a set containing the hand in every configuration
+/// ([`hand_balls`]), with the object's centre farther than each ball's radius plus the
+/// object's own (its hull's farthest vertex from the centre of mass), the flight can never
+/// meet the hand again, so it lasts to the end of the run; taken about the control run's final
+/// centre of mass, the distance to it only grows, and once it exceeds `beyond` (the verdict's
+/// thresholds plus twice the centre of mass's offset from the object origin, since the verdict
+/// measures the origin) the full run would end [`super::HoldResult::Dropped`] too. All the
+/// conditions at once make the early verdict the full run's.
 pub(super) struct DropBound {
-    /// Centre (world) of the ball containing the hand in every configuration.
-    hand_centre: Vector3<f64>,
-    /// Its radius plus the object's radius about its centre of mass plus a margin (m).
-    clearance: f64,
+    /// Centres (world) of balls containing the hand in every configuration, each with its
+    /// radius plus the object's radius about its centre of mass plus a margin (m).
+    balls: Vec<Ball>,
     /// The control run's final centre of mass (world).
     control_com: Vector3<f64>,
     /// Distance (m) from `control_com` beyond which the verdict is a drop.
@@ -116,6 +114,9 @@ pub(super) struct DropBound {
     /// The object's centre of mass in its frame.
     com: Point3<f64>,
 }
+
+/// A ball: its centre (world) and radius (m).
+type Ball = (Vector3<f64>, f64);
 
 /// Added to the clearance and the drop distance (m): the soft contacts act a little before
 /// touch, and rounding may shrink a growing distance by far less.
@@ -138,23 +139,19 @@ impl DropBound {
         drop_translation: f64,
         max_translation: f64,
     ) -> Result<Option<Self>> {
-        let model = hand.robot();
-        let Some(radius) = reach(model) else { return Ok(None) };
-        let hand_centre = engine.link_pose(robot, model.root())?.translation.vector;
         let com = object.center_of_mass();
         let object_radius = object.mesh.vertices().iter().map(|v| (v - com).norm()).fold(0.0, f64::max);
-        let offset = com.coords.norm();
+        let Some(balls) = hand_balls(engine, robot, hand.robot())? else { return Ok(None) };
         Ok(Some(Self {
-            hand_centre,
-            clearance: radius + object_radius + MARGIN,
+            balls: balls.into_iter().map(|(c, r)| (c, r + object_radius + MARGIN)).collect(),
             control_com: (control * com).coords,
-            beyond: drop_translation.max(max_translation) + 2.0 * offset + MARGIN,
+            beyond: drop_translation.max(max_translation) + 2.0 * com.coords.norm() + MARGIN,
             com,
         }))
     }
 
     /// True if object `oid` of `engine` is certainly dropped under `gravity` (see
-    /// [`DropBound`]): out of the hand's reach and moving away from it, and beyond the drop
+    /// [`DropBound`]): out of every hand ball and moving away from each, and beyond the drop
     /// distance from the control run's final pose and moving away from it.
     ///
     /// # Errors
@@ -165,31 +162,65 @@ impl DropBound {
         let receding = |u: Vector3<f64>, distance: f64| {
             u.norm() > distance && u.dot(&v) >= 0.0 && u.dot(gravity) >= 0.0 && v.dot(gravity) >= 0.0
         };
-        Ok(receding(x - self.hand_centre, self.clearance) && receding(x - self.control_com, self.beyond))
+        Ok(receding(x - self.control_com, self.beyond) && self.balls.iter().all(|(c, r)| receding(x - c, *r)))
     }
 }
 
-/// Radius (m) of a ball about the root link's origin containing every collision shape of
-/// `robot` in every configuration: per link, the distances of its joints' origins from their
-/// parents' (a revolute joint turns about its origin and moves nothing farther), their
-/// prismatic travel, and its shapes' bounding-box corners. `None` for a prismatic joint
-/// without limits.
-fn reach(robot: &Robot) -> Option<f64> {
-    let mut origin_reach = vec![0.0; robot.links().len()];
+/// Balls (world centre, radius in m) that together contain every collision shape of `robot`
+/// (robot `id` of `engine`, its root fixed) in every configuration: one per link rigid with
+/// the root, about its origin (its shapes' farthest bounding-box corner), and one per movable
+/// joint whose parent is rigid with the root, about that joint's origin, containing the links
+/// it carries: per link the distances of the joints' origins from their parents' (a revolute
+/// joint turns about its origin and moves nothing farther), their prismatic travel, and its
+/// shapes' corners. `None` for a prismatic joint without limits.
+///
+/// # Errors
+/// [`GraspError::Core`] from the engine.
+fn hand_balls<E: PhysicsEngine>(engine: &E, id: RobotId, robot: &Robot) -> Result<Option<Vec<Ball>>> {
+    let corner = |link: usize| {
+        let shapes = robot.links()[link].collisions.iter();
+        shapes.flat_map(|s| s.aabb_corners().map(|c| c.coords.norm())).fold(f64::NEG_INFINITY, f64::max)
+    };
+    // Per link: the ball that holds it (`None`: rigid with the root) and its origin's reach
+    // from that ball's centre.
+    let mut ball_of: Vec<Option<usize>> = vec![None; robot.links().len()];
+    let mut reach = vec![0.0; robot.links().len()];
+    let mut balls: Vec<Ball> = Vec::new();
     for &j in robot.joints_topological() {
         let joint = robot.joint(j);
+        let (parent, child) = (joint.parent.0, joint.child.0);
         let travel = match joint.kind {
-            JointKind::Prismatic => {
-                let limits = joint.limits?;
-                limits.lower.abs().max(limits.upper.abs())
-            }
+            JointKind::Prismatic => match joint.limits {
+                Some(limits) => limits.lower.abs().max(limits.upper.abs()),
+                None => return Ok(None),
+            },
             _ => 0.0,
         };
-        origin_reach[joint.child.0] = origin_reach[joint.parent.0] + joint.origin.translation.vector.norm() + travel;
+        match (ball_of[parent], joint.is_movable()) {
+            (None, false) => {}
+            (None, true) => {
+                let centre = engine.link_pose(id, joint.parent)? * Point3::from(joint.origin.translation.vector);
+                balls.push((centre.coords, 0.0));
+                ball_of[child] = Some(balls.len() - 1);
+                reach[child] = travel;
+            }
+            (Some(b), _) => {
+                ball_of[child] = Some(b);
+                reach[child] = reach[parent] + joint.origin.translation.vector.norm() + travel;
+            }
+        }
     }
-    let shapes =
-        robot.links().iter().zip(&origin_reach).flat_map(|(link, r)| {
-            link.collisions.iter().flat_map(move |s| s.aabb_corners().map(|c| r + c.coords.norm()))
-        });
-    Some(shapes.fold(0.0, f64::max))
+    let mut rigid = Vec::new();
+    for (link, ball) in ball_of.iter().enumerate() {
+        let extent = corner(link);
+        if extent == f64::NEG_INFINITY {
+            continue;
+        }
+        match ball {
+            Some(b) => balls[*b].1 = balls[*b].1.max(reach[link] + extent),
+            None => rigid.push((engine.link_pose(id, LinkId(link))?.translation.vector, extent)),
+        }
+    }
+    balls.extend(rigid);
+    Ok(Some(balls))
 }
