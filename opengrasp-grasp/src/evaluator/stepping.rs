@@ -13,10 +13,11 @@ use crate::error::{GraspError, Result};
 
 /// Sub-stepping while the object moves ([`super::PhysicsCheckOptions::adaptive_step`]): each
 /// step of the check's runs after the release that starts with the object's centre of mass
-/// moving at `speed` or faster is simulated as `substeps` equal steps; a slower object takes
-/// the normal step. A grip in balance keeps the object nearly still, where the normal step is
-/// accurate; a shifting or falling object meets the fingers' soft contacts at speed, where a
-/// coarse step overshoots the contact depths and kicks a grip that would hold out of balance.
+/// moving at `speed` or faster while it touches the hand (an active contact) is simulated as
+/// `substeps` equal steps; a slower or untouched object takes the normal step. A grip in
+/// balance keeps the object nearly still, where the normal step is accurate; a shifting object
+/// meets the fingers' soft contacts at speed, where a coarse step overshoots the contact depths
+/// and kicks a grip that would hold out of balance; free flight gains nothing from the split.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AdaptiveStep {
     /// Speed (m/s) of the object's centre of mass from which a step is split. Default: 0.01.
@@ -57,7 +58,8 @@ pub(super) struct EarlyStop<'a> {
     pub(super) gravity: Vector3<f64>,
 }
 
-/// `steps` steps of `dt` of `engine` (each split as `adaptive` says while object `oid` moves),
+/// `steps` steps of `dt` of `engine` (each split as `adaptive` says while object `oid` moves
+/// in contact),
 /// stopped after the first step at which `stop` is certain. Returns whether it stopped early.
 ///
 /// # Errors
@@ -72,7 +74,9 @@ pub(super) fn run<E: PhysicsEngine>(
 ) -> Result<bool> {
     for _ in 0..steps {
         match adaptive {
-            Some(a) if a.substeps > 1 && engine.object_velocity(oid)?.linear.norm() >= a.speed => {
+            Some(a)
+                if a.substeps > 1 && engine.object_velocity(oid)?.linear.norm() >= a.speed && touching(engine, oid) =>
+            {
                 let h = dt / a.substeps as f64;
                 engine.step_n(a.substeps, h)?;
             }
@@ -85,6 +89,13 @@ pub(super) fn run<E: PhysicsEngine>(
         }
     }
     Ok(false)
+}
+
+/// True if object `oid` of `engine` has an active contact (the scene's only other bodies are
+/// the hand's links).
+fn touching<E: PhysicsEngine>(engine: &E, oid: ObjectId) -> bool {
+    let is = |b: opengrasp_core::physics::ContactBody| b == opengrasp_core::physics::ContactBody::Object(oid);
+    engine.contacts().iter().any(|c| is(c.body1) || is(c.body2))
 }
 
 /// When a gravity run's object is certainly dropped ([`super::PhysicsCheckOptions::early_drop`]).
