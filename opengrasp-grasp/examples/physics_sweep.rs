@@ -10,7 +10,7 @@
 //! grip torques; 0: off), `grip_margin`, `compliance` (rad: the balanced grip as joint springs,
 //! full effort at this deflection; 0: off), `spring` (rad: the closing joints as springs with their full effort share θ before their rest positions; 0: off), `resolve` (0/1: re-solve the balanced grip on
 //! the simulated contacts after the squeeze), `regrip` (s: re-solve it every this often during the squeeze; 0: off), `hand_actuation` (0/1: each hand's own actuator model where no other is set), `contact_hz`, `iterations`, `timestep` (s), `fixture`
-//! (0/1), `release` (s: the fixture's wrench ramped to zero over this time; 0: at once), `tau` (s: quasi-static closing on the free object with viscous damping of this time constant, needs `fixture=0`; 0: off), `damping_ramp` (s), `settle` (s), `coupled` (0/1), `armature` (kg·m², [`opengrasp_core::physics::PhysicsOptions::joint_armature`]), `window_dt` (s), `window_hz`, `window_before` (s), `window_after` (s) (the fine release window, [`PhysicsCheckOptions::release_window`]; a key sets one field, the others 1 ms, 120 Hz, 20 ms, 30 ms where no window was set; `window=0`: none), `per_cell` (grasps per planner and object, default 3), `hand`
+//! (0/1), `release` (s: the fixture's wrench ramped to zero over this time; 0: at once), `tau` (s: quasi-static closing on the free object with viscous damping of this time constant, needs `fixture=0`; 0: off), `damping_ramp` (s), `settle` (s), `coupled` (0/1), `armature` (kg·m², [`opengrasp_core::physics::PhysicsOptions::joint_armature`]), `window_dt` (s), `window_hz`, `window_before` (s), `window_after` (s) (the fine release window, [`PhysicsCheckOptions::release_window`]; a key sets one field, the others 1 ms, 120 Hz, 20 ms, 30 ms where no window was set; `window=0`: none), `adaptive_speed` (m/s), `adaptive_substeps` (0: no adaptive stepping) ([`PhysicsCheckOptions::adaptive_step`]), `early_drop` (0/1), `verdicts` (0/1: print each check's results per direction), `per_cell` (grasps per planner and object, default 3), `hand`
 //! (`barrett` or `armar3`; default both). Per object and planner the first 128 candidates
 //! (spread evenly) are evaluated and `per_cell` of the force-closure palm grasps, spread
 //! evenly, are checked; the line shows `[force-closure palm grasps] held/checked`. Per hand the
@@ -27,9 +27,14 @@
 use opengrasp_assets::hands;
 use opengrasp_core::error::CoreError;
 use opengrasp_grasp::error::GraspError;
-use opengrasp_grasp::evaluator::{physics_check, HoldResult, PhysicsCheckOptions, ReleaseWindow};
+use opengrasp_grasp::evaluator::{physics_check, AdaptiveStep, HoldResult, PhysicsCheckOptions, ReleaseWindow};
 
 mod common;
+
+/// The options' adaptive stepping, created (the default) if unset.
+fn adaptive(options: &mut PhysicsCheckOptions) -> &mut AdaptiveStep {
+    options.adaptive_step.get_or_insert_with(AdaptiveStep::default)
+}
 
 /// The options' release window, created (1 ms, 120 Hz, 20 ms before, 30 ms after) if unset.
 fn window(options: &mut PhysicsCheckOptions) -> &mut ReleaseWindow {
@@ -44,6 +49,7 @@ fn window(options: &mut PhysicsCheckOptions) -> &mut ReleaseWindow {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut options = PhysicsCheckOptions::default();
     let (mut per_cell, mut only, mut explain, mut palm_push) = (3usize, String::new(), false, 0.0);
+    let mut verdicts = false;
     for arg in std::env::args().skip(1) {
         let (key, value) = arg.split_once('=').ok_or_else(|| format!("expected KEY=VALUE, got `{arg}`"))?;
         let p = &mut options.physics;
@@ -78,6 +84,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "hand" => only = value.to_string(),
             "explain" => explain = value != "0",
             "palm_push" => palm_push = value.parse()?,
+            "adaptive_speed" => adaptive(&mut options).speed = value.parse()?,
+            "adaptive_substeps" => match value.parse()? {
+                0 => options.adaptive_step = None,
+                n => adaptive(&mut options).substeps = n,
+            },
+            "early_drop" => options.early_drop = value != "0",
+            "verdicts" => verdicts = value != "0",
             _ => return Err(format!("unknown key `{key}`").into()),
         }
     }
@@ -111,6 +124,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         Err(e) => return Err(e.into()),
                     };
                     h += usize::from(outcome.held());
+                    if verdicts {
+                        println!("  {name} {} {j}: {:?}", object.name, outcome.results);
+                    }
                     if !outcome.held() {
                         escaped += usize::from(outcome.grip_escapes);
                         pushes[usize::from(!outcome.grip_escapes)].push(outcome.release_push);

@@ -134,6 +134,27 @@ fn armar3_pinch_drops_identically_from_a_snapshot() {
 }
 
 #[test]
+fn armar3_pinch_drops_alike_with_and_without_the_early_stop() {
+    // The early stop of a certainly dropped object (`early_drop`) gives the full run's verdict
+    // in every direction; a run that ends with the object in the hand is the same either way.
+    let (hand, object) = (hands::armar3_hand(), cylinder(0.03));
+    let grasp = side_grasp(&hand, &object, Vector3::z());
+    let check = |early_drop: bool| {
+        let options = PhysicsCheckOptions { early_drop, ..PhysicsCheckOptions::default() };
+        physics_check_with::<RapierBackend>(&hand, &object, &grasp, &options).unwrap()
+    };
+    let (early, full) = (check(true), check(false));
+    assert_eq!(early.results, full.results);
+    assert!(full.results.contains(&HoldResult::Dropped), "{full:?}");
+    for (i, result) in full.results.iter().enumerate() {
+        match result {
+            HoldResult::Dropped => assert!(early.translations[i] > 0.1, "{early:?}"),
+            _ => assert_eq!(early.translations[i], full.translations[i]),
+        }
+    }
+}
+
+#[test]
 fn mock_check_is_the_same_with_and_without_snapshots() {
     // The mock has no dynamics: nothing moves the object, every direction holds with zero
     // displacement whichever path the check takes.

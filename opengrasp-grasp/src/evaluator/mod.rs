@@ -31,6 +31,7 @@ mod physics;
 mod physics_options;
 mod release;
 mod static_hold;
+mod stepping;
 
 use std::sync::Arc;
 
@@ -60,6 +61,7 @@ pub use physics::{physics_check, physics_check_with, settle_grip, HoldResult, Ph
 pub use physics_options::PhysicsCheckOptions;
 pub use release::{fixture_wrench, release_gradually, undamp_gradually, ReleaseWindow};
 pub use static_hold::{static_hold, ActuatorLoad, StaticDirection, StaticHoldOptions, StaticHoldOutcome};
+pub use stepping::AdaptiveStep;
 
 /// How an evaluation ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

@@ -10,6 +10,7 @@ use crate::error::{GraspError, Result};
 use crate::tactile::sources::{squeeze_engine, TactileSeriesOptions};
 use opengrasp_core::object::ObjectModel;
 
+use super::stepping::{self, DropBound, EarlyStop};
 use super::{EvaluationStatus, GraspEvaluation, PhysicsCheckOptions};
 
 /// What gravity did to the grasped object in one direction.
@@ -26,9 +27,11 @@ pub enum HoldResult {
 /// Result of a physics check: how far the object moved under each gravity direction.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PhysicsOutcome {
-    /// Object displacement (m) per gravity direction, relative to the gravity-free control run.
+    /// Object displacement (m) per gravity direction, relative to the gravity-free control run
+    /// (for a run stopped early, [`PhysicsCheckOptions::early_drop`], at the stop).
     pub translations: Vec<f64>,
-    /// Object rotation (rad) per gravity direction, relative to the control run.
+    /// Object rotation (rad) per gravity direction, relative to the control run (at the stop
+    /// likewise).
     pub rotations: Vec<f64>,
     /// Whether the object stayed in the hand, per gravity direction.
     pub held_per_direction: Vec<bool>,
@@ -97,6 +100,9 @@ pub fn physics_check(
 /// squeeze-induced creep of the simulator, present in both runs, cancels out. A direction that
 /// is not held is [`HoldResult::Dropped`] beyond `drop_translation`, else
 /// [`HoldResult::Slipped`]; the control run's own motion is reported as the grip displacement.
+/// The runs after the release split their steps while the object moves
+/// ([`PhysicsCheckOptions::adaptive_step`]), and a gravity run ends once its object is
+/// certainly dropped ([`PhysicsCheckOptions::early_drop`]).
 ///
 /// # Errors
 /// [`GraspError::InvalidParameter`] for bad options or an evaluation without a closed hand;
@@ -126,16 +132,31 @@ pub fn physics_check_with<E: PhysicsEngine>(
     // gives), or from a fresh settle on a backend without snapshots.
     let start = settle_grip::<E>(hand, object, evaluation, options)?;
     let imbalance = start.release_imbalance;
-    let run = |gravity: Vector3<f64>| -> Result<Isometry3<f64>> {
+    let oid = ObjectId(0);
+    let adaptive = options.adaptive_step.as_ref();
+    let run = |gravity: Vector3<f64>, bound: Option<&DropBound>| -> Result<Isometry3<f64>> {
         let mut engine = match start.engine.snapshot() {
             Some(engine) => engine,
             None => settle_grip::<E>(hand, object, evaluation, options)?.engine,
         };
         engine.set_gravity(gravity)?;
-        engine.step_n(steps, dt)?;
-        Ok(engine.object_pose(ObjectId(0))?)
+        let stop = bound.map(|bound| EarlyStop { bound, gravity });
+        stepping::run(&mut engine, oid, steps, dt, adaptive, stop.as_ref())?;
+        Ok(engine.object_pose(oid)?)
     };
-    let control = run(Vector3::zeros())?;
+    let control = run(Vector3::zeros(), None)?;
+    let bound = match options.early_drop {
+        true => DropBound::new(
+            &start.engine,
+            start.robot,
+            hand,
+            object,
+            &control,
+            options.drop_translation,
+            options.max_translation,
+        )?,
+        false => None,
+    };
     let mut out = PhysicsOutcome {
         translations: Vec::new(),
         rotations: Vec::new(),
@@ -148,7 +169,7 @@ pub fn physics_check_with<E: PhysicsEngine>(
             || control.rotation.angle() > options.max_rotation,
     };
     for &g in &gravities {
-        let pose = run(g)?;
+        let pose = run(g, bound.as_ref())?;
         let translation = (pose.translation.vector - control.translation.vector).norm();
         let rotation = pose.rotation.angle_to(&control.rotation);
         let held = translation <= options.max_translation && rotation <= options.max_rotation;
