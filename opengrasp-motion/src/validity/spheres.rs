@@ -16,10 +16,12 @@ use super::{MotionBound, ObstacleBox, ObstaclePrimitive, StateValidityChecker};
 mod certified;
 mod covered;
 mod lanes;
+mod link_table;
 mod table;
 
 use certified::Certificates;
 use covered::Covered;
+use link_table::LinkTable;
 use table::PairTable;
 
 /// Which link pairs a [`SphereWorld`] checks for self-collision.
@@ -96,6 +98,8 @@ pub struct SphereWorld {
     /// Per moving pair, its distance table if it has one ([`SphereWorld::with_pair_tables`]).
     tables: Vec<Option<Arc<PairTable>>>,
     use_tables: bool,
+    /// Per link, the table of its obstacle test if its spheres depend on one group value.
+    link_tables: Vec<Option<Arc<LinkTable>>>,
 }
 
 /// How a [`SphereWorld`] covers mesh collision shapes (other shapes have closed-form covers).
@@ -183,6 +187,7 @@ impl SphereWorld {
             certify: true,
             tables: Vec::new(),
             use_tables: false,
+            link_tables: Vec::new(),
         };
         Ok(world.with_self_collision(SelfCollisionPairs::default()))
     }
@@ -406,6 +411,7 @@ impl SphereWorld {
         self.fixed_ok = self.soa.static_free_of_obstacles() && static_pairs_clear;
         self.cert = self.motion_tests();
         self.tables = self.pair_tables();
+        self.link_tables = self.link_tables();
     }
 
     /// The state check behind [`StateValidityChecker::is_valid`]: the compiled forward

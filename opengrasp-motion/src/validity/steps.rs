@@ -34,6 +34,12 @@ impl StepWeights {
         Self { tests, dim, by_block }
     }
 
+    /// The weights of test `t`, one per group value (zeros past the last test).
+    pub(super) fn row(&self, t: usize) -> Vec<f64> {
+        let (blk, l) = (t / TESTS, t % TESTS);
+        (0..self.dim).map(|j| self.by_block.get((blk * self.dim + j) * TESTS + l).copied().unwrap_or(0.0)).collect()
+    }
+
     /// Per test, the reciprocal of its bound per step of the straight motion `a → b` in `n`
     /// steps (∞ if the test cannot change), the bound inflated against rounding, into `out`.
     /// Each test's sum runs over the joints in order from `0.0`, so the values are those of
