@@ -375,7 +375,8 @@ impl SceneSphereModel {
             obstacles.retain(|o| reach.iter().any(|(p, r)| o.signed_distance(p) <= *r));
         }
         let model = SphereWorld::new(Arc::new(spherized), group.clone(), q_full.to_vec(), entry.base_pose, Vec::new())?
-            .with_self_collision(SelfCollisionPairs::Robot);
+            .with_self_collision(SelfCollisionPairs::Robot)
+            .with_link_tables(true);
         let kept = obstacles.len();
         let world = model.for_problem(q_full.to_vec(), obstacles, &allowed)?;
         Ok(Self {
