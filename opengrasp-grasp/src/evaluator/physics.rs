@@ -145,8 +145,8 @@ pub fn physics_check_with<E: PhysicsEngine>(
         Ok(engine.object_pose(oid)?)
     };
     let control = run(Vector3::zeros(), None)?;
-    let bound = match options.early_drop {
-        true => DropBound::new(
+    let bound = if options.early_drop {
+        DropBound::new(
             &start.engine,
             start.robot,
             hand,
@@ -154,8 +154,9 @@ pub fn physics_check_with<E: PhysicsEngine>(
             &control,
             options.drop_translation,
             options.max_translation,
-        )?,
-        false => None,
+        )?
+    } else {
+        None
     };
     let mut out = PhysicsOutcome {
         translations: Vec::new(),

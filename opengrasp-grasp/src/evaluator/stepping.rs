@@ -6,7 +6,7 @@ use nalgebra::{Isometry3, Point3, Vector3};
 use opengrasp_core::hand::Hand;
 use opengrasp_core::model::{JointKind, LinkId, Robot};
 use opengrasp_core::object::ObjectModel;
-use opengrasp_core::physics::PhysicsEngine;
+use opengrasp_core::physics::{ContactBody, PhysicsEngine};
 use opengrasp_core::scene::{ObjectId, RobotId};
 
 use crate::error::{GraspError, Result};
@@ -59,8 +59,8 @@ pub(super) struct EarlyStop<'a> {
 }
 
 /// `steps` steps of `dt` of `engine` (each split as `adaptive` says while object `oid` moves
-/// in contact),
-/// stopped after the first step at which `stop` is certain. Returns whether it stopped early.
+/// in contact), stopped after the first step at which `stop` is certain. Returns whether it
+/// stopped early.
 ///
 /// # Errors
 /// [`GraspError::Core`] from the engine.
@@ -94,7 +94,7 @@ pub(super) fn run<E: PhysicsEngine>(
 /// True if object `oid` of `engine` has an active contact (the scene's only other bodies are
 /// the hand's links).
 fn touching<E: PhysicsEngine>(engine: &E, oid: ObjectId) -> bool {
-    let is = |b: opengrasp_core::physics::ContactBody| b == opengrasp_core::physics::ContactBody::Object(oid);
+    let is = |b: ContactBody| b == ContactBody::Object(oid);
     engine.contacts().iter().any(|c| is(c.body1) || is(c.body2))
 }
 
